@@ -1,0 +1,15 @@
+#pragma once
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+namespace facesr::cli {
+
+// Each register_* adds a subcommand and records the action to run when it is
+// the one selected; actions throw facesr::Error on bad input.
+void register_rig(CLI::App& app);
+void register_devices(CLI::App& app);
+void add_action(CLI::App* sub, std::function<void()> action);
+void run_selected(CLI::App& app);
+
+}  // namespace facesr::cli

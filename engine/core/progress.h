@@ -1,0 +1,38 @@
+#pragma once
+#include <chrono>
+#include <string>
+
+namespace facesr {
+
+// Progress of long work, on stderr (stdout is reserved for --json output).
+// Prints at most a few lines per second with percentage and ETA.
+class Progress {
+ public:
+  Progress(std::string task, long total, bool enabled = true);
+  void update(long done, const std::string& detail = "");
+  void finish(const std::string& detail = "");
+
+ private:
+  std::string task_;
+  long total_;
+  bool enabled_;
+  std::chrono::steady_clock::time_point start_, last_;
+};
+
+// Stage timer for multi-step jobs: "[rig] tetrahedralize ... 3.2 s".
+class StageLog {
+ public:
+  explicit StageLog(bool enabled) : enabled_(enabled) {}
+  void begin(const std::string& stage);
+  double end(const std::string& detail = "");  // returns seconds
+  bool enabled() const { return enabled_; }
+
+ private:
+  bool enabled_;
+  std::string stage_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t0);
+
+}  // namespace facesr

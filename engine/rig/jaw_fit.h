@@ -1,0 +1,19 @@
+#pragma once
+#include "core/types.h"
+#include "rig/rig.h"
+
+namespace facesr {
+
+// Least-squares rigid transform (Kabsch) taking points A to B: B ≈ R A + t.
+void fit_rigid(const Points& A, const Points& B, Mat3& R, Vec3& t, double* rms = nullptr);
+
+// Hinge (axis through pivot, angle) closest to a rigid transform: the
+// rotation axis and angle of R, and the point on the axis that minimises
+// |(R - I)(x - p) - (t + (R - I) x)| in least squares. Returns the axis
+// oriented so that the angle is positive.
+void hinge_from_rigid(const Mat3& R, const Vec3& t, Vec3& pivot, Vec3& axis, double& angle_rad);
+
+// Rotation by `angle_rad` about `axis` through `pivot`, applied to x.
+Vec3 hinge_apply(const Vec3& x, const Vec3& pivot, const Vec3& axis, double angle_rad);
+
+}  // namespace facesr
