@@ -321,6 +321,28 @@ TEST_F(RigIo, LoadValidatesContentBehindAValidChecksum) {
   expect_error([&] { load_rig(path("a.rig")); }, {path("a.rig"), "surface", "non-finite"});
 }
 
+// Corruption that slips past the checksum (or a buggy writer) must surface as
+// an Error, never as a crash or a huge allocation.
+TEST_F(RigIo, EveryResealedByteChangeLoadsOrThrowsError) {
+  save_rig(make_rig(), path("a.rig"));
+  const auto good = read_bytes(path("a.rig"));
+  uint64_t payload_size;
+  std::memcpy(&payload_size, good.data() + 16, 8);
+  for (size_t i = 24; i < 24 + payload_size; ++i) {
+    for (uint8_t x : {uint8_t(0x01), uint8_t(0x80), uint8_t(0xff)}) {
+      auto bytes = good;
+      bytes[i] ^= x;
+      reseal(bytes);
+      write_bytes(path("x.rig"), bytes);
+      try {
+        load_rig(path("x.rig"));
+      } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(path("x.rig")), std::string::npos) << e.what();
+      }
+    }
+  }
+}
+
 TEST(RigSummary, CountsOfSyntheticRig) {
   const auto s = rig_summary(make_rig());
   EXPECT_EQ(s["name"], "tiny");

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -7,7 +9,6 @@
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include "core/error.h"
@@ -61,7 +62,8 @@ Rig synthetic_rig() {
   const int n = 20;
   rig.surface.resize((n + 1) * (n + 1), 3);
   for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) rig.surface.row(j * (n + 1) + i) << -2 + 4.0 * i / n, -2 + 4.0 * j / n, 0;
+    for (int i = 0; i <= n; ++i)
+      rig.surface.row(j * (n + 1) + i) << -2 + 4.0 * i / n, -2 + 4.0 * j / n, 0;
   rig.surface_tris.resize(2 * n * n, 3);
   for (int j = 0, f = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
@@ -96,7 +98,8 @@ struct Decoded {
 
 Decoded decode_png(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                             std::istreambuf_iterator<char>());
   const uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
   EXPECT_GE(bytes.size(), 8u);
   EXPECT_TRUE(bytes.size() >= 8 && std::equal(signature, signature + 8, bytes.begin()));
@@ -120,7 +123,8 @@ double hue_similarity(Rgb a, Rgb b) {
 double distance(Rgb a, Rgb b) { return (Vec3(a.r, a.g, a.b) - Vec3(b.r, b.g, b.b)).norm(); }
 
 std::string temp_png(const std::string& stem) {
-  return (std::filesystem::temp_directory_path() / (stem + "_" + std::to_string(::getpid()) + ".png"))
+  return (std::filesystem::temp_directory_path() /
+          (stem + "_" + std::to_string(::getpid()) + ".png"))
       .string();
 }
 
@@ -169,7 +173,8 @@ TEST(RigPreview, MirrorPairsShareHue) {
 TEST(RigPreview, RejectsInvalidInput) {
   const Rig rig = synthetic_rig();
   const std::string path = temp_png("facesr_rig_preview_invalid");
-  for (auto [w, h] : {std::pair{63, 400}, std::pair{400, 63}, std::pair{8193, 400}, std::pair{400, 9000}}) {
+  for (auto [w, h] :
+       {std::pair{63, 400}, std::pair{400, 63}, std::pair{8193, 400}, std::pair{400, 9000}}) {
     PreviewOptions opt;
     opt.width = w;
     opt.height = h;

@@ -100,14 +100,22 @@ const Glyph* glyph(char ch) {
   if (u >= 'A' && u <= 'Z') return &letters[u - 'A'];
   if (u >= '0' && u <= '9') return &digits[u - '0'];
   switch (u) {
-    case '_': return &underscore;
-    case '-': return &dash;
-    case '.': return &dot;
-    case ':': return &colon;
-    case '/': return &slash;
-    case '(': return &lparen;
-    case ')': return &rparen;
-    default: return nullptr;
+    case '_':
+      return &underscore;
+    case '-':
+      return &dash;
+    case '.':
+      return &dot;
+    case ':':
+      return &colon;
+    case '/':
+      return &slash;
+    case '(':
+      return &lparen;
+    case ')':
+      return &rparen;
+    default:
+      return nullptr;
   }
 }
 
@@ -120,7 +128,8 @@ void draw_text(Image& img, int x, int y, const std::string& text, Rgb c, int sca
     const int gx = x + int(i) * 6 * scale;
     for (int row = 0; row < 7; ++row)
       for (int col = 0; col < 5; ++col)
-        if ((*g)[row] & (0x10 >> col)) img.fill_rect(gx + col * scale, y + row * scale, scale, scale, c);
+        if ((*g)[row] & (0x10 >> col))
+          img.fill_rect(gx + col * scale, y + row * scale, scale, scale, c);
   }
 }
 

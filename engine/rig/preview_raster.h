@@ -19,7 +19,7 @@ class Image {
   int width() const { return w_; }
   int height() const { return h_; }
   Rgb get(int x, int y) const;
-  void set(int x, int y, Rgb c);  // ignored outside the image
+  void set(int x, int y, Rgb c);                  // ignored outside the image
   void blend(int x, int y, Rgb c, double alpha);  // ignored outside the image
   void fill_rect(int x, int y, int w, int h, Rgb c);
   std::vector<uint8_t> encode_png() const;

@@ -209,47 +209,63 @@ std::vector<uint8_t> serialize(const Rig& rig) {
   return std::move(w.bytes());
 }
 
+// Messages are built only on failure: the checks run per element over meshes
+// with millions of entries.
 class Validator {
  public:
   explicit Validator(const std::string& context) : ctx_(context) {}
 
   void check(bool ok, const std::string& field, const std::string& problem) const {
-    if (!ok) throw Error(ctx_ + ": " + field + " " + problem);
+    if (!ok) fail(field, problem);
   }
   void size(const std::string& field, size_t n, size_t expected) const {
-    check(n == expected, field,
-          "has " + std::to_string(n) + " entries, expected " + std::to_string(expected));
+    if (n != expected)
+      fail(field, "has " + std::to_string(n) + " entries, expected " + std::to_string(expected));
   }
   template <class T>
   void finite(const std::string& field, const T* p, size_t n) const {
     for (size_t i = 0; i < n; ++i)
-      check(std::isfinite(p[i]), field, "has a non-finite value at element " + std::to_string(i));
+      if (!std::isfinite(p[i]))
+        fail(field, "has a non-finite value at element " + std::to_string(i));
   }
   template <class T>
   void finite(const std::string& field, const std::vector<T>& v) const {
     finite(field, v.data(), v.size());
   }
   void finite(const std::string& field, const Points& m) const {
-    finite(field, m.data(), size_t(m.size()));
+    for (Eigen::Index r = 0; r < m.rows(); ++r)
+      if (!m.row(r).allFinite())
+        fail(field, "row " + std::to_string(r) + " has a non-finite value");
   }
   // Every p[i] must lie in [lo, hi).
   template <class T>
   void in_range(const std::string& field, const T* p, size_t n, long lo, long hi) const {
     for (size_t i = 0; i < n; ++i)
-      check(long(p[i]) >= lo && long(p[i]) < hi, field,
-            "element " + std::to_string(i) + " is " + std::to_string(long(p[i])) +
-                ", outside [" + std::to_string(lo) + ", " + std::to_string(hi) + ")");
+      if (long(p[i]) < lo || long(p[i]) >= hi)
+        fail(field, "element " + std::to_string(i) + " is " + std::to_string(long(p[i])) +
+                        ", outside " + range(lo, hi));
   }
   template <class T>
   void in_range(const std::string& field, const std::vector<T>& v, long lo, long hi) const {
     in_range(field, v.data(), v.size(), lo, hi);
   }
+  // Every entry of an index matrix (triangles, tets) must lie in [0, count).
   template <class M>
   void indices(const std::string& field, const M& m, long count) const {
-    in_range(field, m.data(), size_t(m.size()), 0, count);
+    for (Eigen::Index r = 0; r < m.rows(); ++r)
+      for (Eigen::Index c = 0; c < m.cols(); ++c)
+        if (m(r, c) < 0 || m(r, c) >= count)
+          fail(field, "row " + std::to_string(r) + " references vertex " +
+                          std::to_string(m(r, c)) + ", outside " + range(0, count));
   }
 
  private:
+  [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
+    throw Error(ctx_ + ": " + field + " " + problem);
+  }
+  static std::string range(long lo, long hi) {
+    return "[" + std::to_string(lo) + ", " + std::to_string(hi) + ")";
+  }
   const std::string& ctx_;
 };
 

@@ -1,9 +1,11 @@
 #include "rig/rig_preview.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <utility>
@@ -29,8 +31,8 @@ const Rgb kLatticeColour{20, 40, 150};
 std::pair<std::string, int> mirror_key(const std::string& name) {
   std::string low(name);
   for (char& c : low) c = char(std::tolower(static_cast<unsigned char>(c)));
-  static const std::pair<const char*, int> suffixes[] = {
-      {"_left", 1}, {"_right", 2}, {"_l", 1}, {"_r", 2}, {".l", 1}, {".r", 2}};
+  static const std::pair<const char*, int> suffixes[] = {{"_left", 1}, {"_right", 2}, {"_l", 1},
+                                                         {"_r", 2},    {".l", 1},     {".r", 2}};
   for (const auto& [suffix, side] : suffixes) {
     const size_t n = std::char_traits<char>::length(suffix);
     if (low.size() > n && low.compare(low.size() - n, n, suffix) == 0)
@@ -41,12 +43,12 @@ std::pair<std::string, int> mirror_key(const std::string& name) {
 
 std::vector<Rgb> muscle_palette(const std::vector<std::string>& names, int count) {
   // Saturated hues well away from the skin tone, so muscle regions read at a glance.
-  static const Rgb base[] = {{31, 119, 180}, {44, 160, 44},  {214, 39, 40},  {148, 103, 189},
+  static const Rgb base[] = {{31, 119, 180}, {44, 160, 44},  {214, 39, 40},   {148, 103, 189},
                              {23, 190, 207}, {188, 189, 34}, {227, 119, 194}, {255, 127, 14},
                              {0, 128, 128},  {128, 0, 64},   {90, 90, 220},   {140, 86, 75}};
   constexpr int kBase = int(sizeof(base) / sizeof(base[0]));
   std::map<std::string, int> group_of;
-  std::vector<Rgb> out(std::max<size_t>(count, 0));
+  std::vector<Rgb> out(count);
   for (int id = 0; id < count; ++id) {
     const auto [key, side] = id < int(names.size()) ? mirror_key(names[id])
                                                     : std::make_pair("#" + std::to_string(id), 0);
@@ -77,8 +79,8 @@ std::vector<int> muscle_under_vertices(const Rig& rig, const Points& normals) {
   require(hr.muscle.size() == size_t(hr.mesh.T.rows()) &&
               hr.muscle_fraction.size() == size_t(hr.mesh.T.rows()),
           "render_rig_preview: rig '" + rig.name + "' has " + std::to_string(hr.muscle.size()) +
-              " muscle ids and " + std::to_string(hr.muscle_fraction.size()) +
-              " fractions for " + std::to_string(hr.mesh.T.rows()) + " HR tets");
+              " muscle ids and " + std::to_string(hr.muscle_fraction.size()) + " fractions for " +
+              std::to_string(hr.mesh.T.rows()) + " HR tets");
   const TetLocator locator(hr.mesh);
 #pragma omp parallel for schedule(dynamic, 64)
   for (int v = 0; v < nv; ++v) {
@@ -167,17 +169,18 @@ struct View {
   }
   // World point on the plane through `centre` under image position (x, y).
   Vec3 unproject(double x, double y) const {
-    return centre + right * ((x - x0 - 0.5 * w) / px_per_cm) - up * ((y - y0 - 0.5 * h) / px_per_cm);
+    return centre + right * ((x - x0 - 0.5 * w) / px_per_cm) -
+           up * ((y - y0 - 0.5 * h) / px_per_cm);
   }
   bool contains(int x, int y) const { return x >= x0 && y >= y0 && x < x0 + w && y < y0 + h; }
 };
 
 // Ray-casts the surface into the view's rectangle; returns per-pixel depth
 // along fwd (infinity where the ray missed) for occlusion-aware overlays.
-std::vector<double> render_surface(Image& img, const View& view, const SurfaceQuery& query,
-                                   const Points& normals, const std::vector<Vec3>& vertex_colour,
-                                   double radius) {
-  std::vector<double> depth(size_t(view.w) * view.h, std::numeric_limits<double>::infinity());
+std::vector<float> render_surface(Image& img, const View& view, const SurfaceQuery& query,
+                                  const Points& normals, const std::vector<Vec3>& vertex_colour,
+                                  double radius) {
+  std::vector<float> depth(size_t(view.w) * view.h, std::numeric_limits<float>::infinity());
   const Vec3 light = (-view.fwd + 0.5 * view.up - 0.3 * view.right).normalized();
   const Tris& F = query.triangles();
   const Points& V = query.vertices();
@@ -203,14 +206,14 @@ std::vector<double> render_surface(Image& img, const View& view, const SurfaceQu
       if (n.dot(view.fwd) > 0) n = -n;  // back faces (open boundaries, lips) lit as front
       const double shade = kLightAmbient + (1 - kLightAmbient) * std::max(0.0, n.dot(light));
       img.set(x, y, to_rgb(shade * colour));
-      depth[size_t(j) * view.w + i] = hit.t - radius;
+      depth[size_t(j) * view.w + i] = float(hit.t - radius);
     }
   }
   return depth;
 }
 
-void draw_lattice(Image& img, const View& view, const std::vector<double>& depth,
-                  const TetMesh& lr, const std::vector<std::pair<int, int>>& edges) {
+void draw_lattice(Image& img, const View& view, const std::vector<float>& depth, const TetMesh& lr,
+                  const std::vector<std::pair<int, int>>& edges) {
   const double eps = 0.02;  // cm: keeps lines lying on the surface counted as visible
   for (const auto& [a, b] : edges) {
     const Vec3 pa = view.project(lr.X.row(a).transpose());
@@ -224,12 +227,12 @@ void draw_lattice(Image& img, const View& view, const std::vector<double>& depth
   }
 }
 
-// A bar of a round length (1-2-5 series) about a fifth of the panel wide.
+// A bar of a round length (1-2-5 series) about a quarter of the panel's smaller side.
 void draw_scale_bar(Image& img, const View& view, const std::string& units, int fs) {
   double len = 0.1;
   for (double decade = 0.1; decade < 1e4; decade *= 10)
     for (double m : {1.0, 2.0, 5.0})
-      if (m * decade * view.px_per_cm <= 0.2 * view.w) len = m * decade;
+      if (m * decade * view.px_per_cm <= 0.25 * std::min(view.w, view.h)) len = m * decade;
   const int px = int(std::lround(len * view.px_per_cm));
   const int x = view.x0 + 4 * fs, y = view.y0 + view.h - 4 * fs;
   img.fill_rect(x, y, px, fs, kInk);
@@ -285,9 +288,9 @@ void render_rig_preview(const Rig& rig, const std::string& png_path, const Previ
   const std::string who = "render_rig_preview: ";
   require(rig.surface.rows() > 0 && rig.surface_tris.rows() > 0,
           who + "rig '" + rig.name + "' has an empty face surface");
-  for (const auto& [what, v] : {std::make_pair("width", opt.width), std::make_pair("height", opt.height)})
-    require(v >= 64 && v <= 8192,
-            who + what + " " + std::to_string(v) + " is outside [64, 8192]");
+  for (const auto& [what, v] :
+       {std::make_pair("width", opt.width), std::make_pair("height", opt.height)})
+    require(v >= 64 && v <= 8192, who + what + " " + std::to_string(v) + " is outside [64, 8192]");
 
   const int W = opt.width, H = opt.height;
   const int fs = std::max(1, int(std::lround(std::min(W, H) / 450.0)));  // font pixel size
@@ -302,7 +305,8 @@ void render_rig_preview(const Rig& rig, const std::string& png_path, const Previ
   const std::vector<Rgb> palette = muscle_palette(names, num_ids);
   std::vector<Vec3> vertex_colour(vertex_muscle.size());
   for (size_t v = 0; v < vertex_muscle.size(); ++v)
-    vertex_colour[v] = to_vec(vertex_muscle[v] >= 0 ? palette[vertex_muscle[v]] : preview_skin_colour());
+    vertex_colour[v] =
+        to_vec(vertex_muscle[v] >= 0 ? palette[vertex_muscle[v]] : preview_skin_colour());
 
   // Layout: title strip, two panels side by side, legend strip.
   const int title_h = text_height(fs) + 6 * fs;
@@ -316,18 +320,19 @@ void render_rig_preview(const Rig& rig, const std::string& png_path, const Previ
   bounding_box(rig.surface, lo, hi);
   const double radius = (hi - lo).norm() + 1;  // rays start outside the surface
   const SurfaceQuery query(rig.surface, rig.surface_tris);
-  const std::vector<std::pair<int, int>> outline =
-      opt.show_lattice && rig.lr.mesh.T.rows() > 0 ? lattice_outline(rig.lr.mesh)
-                                                   : std::vector<std::pair<int, int>>{};
+  const std::vector<std::pair<int, int>> outline = opt.show_lattice && rig.lr.mesh.T.rows() > 0
+                                                       ? lattice_outline(rig.lr.mesh)
+                                                       : std::vector<std::pair<int, int>>{};
   for (const View& view : views) {
-    const std::vector<double> depth = render_surface(img, view, query, normals, vertex_colour, radius);
+    const std::vector<float> depth =
+        render_surface(img, view, query, normals, vertex_colour, radius);
     draw_lattice(img, view, depth, rig.lr.mesh, outline);
   }
 
   const std::string units = rig.units.empty() ? "cm" : rig.units;
   draw_text(img, 3 * fs, 3 * fs,
-            "rig " + (rig.name.empty() ? std::string("(unnamed)") : rig.name) + "  units: " + units +
-                "  muscles: " + std::to_string(rig.muscles.size()),
+            "rig " + (rig.name.empty() ? std::string("(unnamed)") : rig.name) +
+                "  units: " + units + "  muscles: " + std::to_string(rig.muscles.size()),
             kInk, fs);
   draw_text(img, views[0].x0 + 4 * fs, panel_y + 2 * fs, "front", kInk, fs);
   draw_text(img, views[1].x0 + 4 * fs, panel_y + 2 * fs,

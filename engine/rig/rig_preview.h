@@ -8,8 +8,8 @@
 namespace facesr {
 
 struct PreviewOptions {
-  int width = 1200;   // pixels, in [64, 8192]
-  int height = 900;   // pixels, in [64, 8192]
+  int width = 1200;          // pixels, in [64, 8192]
+  int height = 900;          // pixels, in [64, 8192]
   bool show_lattice = true;  // outline of the LR lattice boundary
   bool show_legend = true;   // muscle colour key
 };

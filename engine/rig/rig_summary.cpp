@@ -31,7 +31,9 @@ nlohmann::json rig_summary(const Rig& rig) {
   const TetQuality lq = tet_quality(rig.lr.mesh);
   const long hr_tets = long(rig.hr.mesh.T.rows()), lr_tets = long(rig.lr.mesh.T.rows());
   // tet_quality reports min 180° for an empty mesh; 0 reads less like a result.
-  auto min_dihedral = [](const TetQuality& q, long tets) { return tets ? q.min_dihedral_deg : 0.0; };
+  auto min_dihedral = [](const TetQuality& q, long tets) {
+    return tets ? q.min_dihedral_deg : 0.0;
+  };
 
   nlohmann::json j;
   j["name"] = rig.name;
@@ -82,7 +84,8 @@ nlohmann::json rig_summary(const Rig& rig) {
   j["predeform_angle_deg"] = rig.predeform.angle_deg;
 
   auto shapes = nlohmann::json::array();
-  for (const auto& s : rig.jaw.shapes) shapes.push_back({{"name", s.name}, {"fit_rms_cm", s.fit_rms_cm}});
+  for (const auto& s : rig.jaw.shapes)
+    shapes.push_back({{"name", s.name}, {"fit_rms_cm", s.fit_rms_cm}});
   j["jaw"] = {{"pivot", vec3(rig.jaw.pivot)},
               {"axis", vec3(rig.jaw.axis)},
               {"open_angle_deg", rig.jaw.open_angle_deg},
