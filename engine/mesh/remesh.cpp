@@ -57,6 +57,49 @@ TriMesh remesh_isotropic(const TriMesh& in, double target_edge, int iterations) 
   return from_cgal(sm);
 }
 
+RepairReport repair_self_intersections(TriMesh& m, int max_rounds) {
+  RepairReport rep;
+  const Points original = m.V;
+  std::vector<std::vector<int>> nbr(m.V.rows());
+  for (int f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      for (int j = 1; j < 3; ++j) nbr[m.F(f, k)].push_back(m.F(f, (k + j) % 3));
+  std::vector<uint8_t> touched(m.V.rows(), 0);
+  for (int round = 0; round < max_rounds; ++round) {
+    SM sm = to_cgal(m);
+    std::vector<std::pair<SM::Face_index, SM::Face_index>> pairs;
+    PMP::self_intersections(faces(sm), sm, std::back_inserter(pairs));
+    if (round == 0) rep.initial_pairs = long(pairs.size());
+    if (pairs.empty()) break;
+    require(round + 1 < max_rounds, "self-intersection repair did not converge (" +
+                                        std::to_string(pairs.size()) + " intersecting triangle pairs left)");
+    std::vector<uint8_t> sel(m.V.rows(), 0);
+    for (const auto& p : pairs)
+      for (auto f : {p.first, p.second})
+        for (int k = 0; k < 3; ++k) sel[m.F(int(f.idx()), k)] = 1;
+    std::vector<uint8_t> grow = sel;
+    for (int v = 0; v < m.V.rows(); ++v)
+      if (sel[v])
+        for (int w : nbr[v]) grow[w] = 1;
+    Points next = m.V;
+    for (int v = 0; v < m.V.rows(); ++v) {
+      if (!grow[v] || nbr[v].empty()) continue;
+      Vec3 c = Vec3::Zero();
+      for (int w : nbr[v]) c += m.V.row(w).transpose();
+      c /= double(nbr[v].size());
+      next.row(v) = 0.5 * m.V.row(v) + 0.5 * c.transpose();
+      touched[v] = 1;
+    }
+    m.V = next;
+  }
+  for (int v = 0; v < m.V.rows(); ++v)
+    if (touched[v]) {
+      rep.moved++;
+      rep.max_displacement = std::max(rep.max_displacement, (m.V.row(v) - original.row(v)).norm());
+    }
+  return rep;
+}
+
 SurfaceCheck check_surface(const TriMesh& m) {
   SM sm = to_cgal(m);
   SurfaceCheck c;

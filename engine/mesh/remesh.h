@@ -8,6 +8,17 @@ namespace facesr {
 // mesh without refining the boundary into needles.
 TriMesh remesh_isotropic(const TriMesh& in, double target_edge, int iterations = 3);
 
+// Removes self-intersections without changing connectivity: vertices of
+// intersecting triangles and their neighbours are Laplacian-smoothed until
+// CGAL finds no intersecting pair. Returns how many vertices moved and the
+// largest displacement (cm). Throws if `max_rounds` do not suffice.
+struct RepairReport {
+  long moved = 0;
+  double max_displacement = 0;
+  long initial_pairs = 0;
+};
+RepairReport repair_self_intersections(TriMesh& m, int max_rounds = 60);
+
 struct SurfaceCheck {
   bool closed = false;
   bool self_intersects = false;

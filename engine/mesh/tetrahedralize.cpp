@@ -1,11 +1,13 @@
 #include "mesh/tetrahedralize.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include <tetgen.h>
 
 #include "core/error.h"
+#include "mesh/remesh.h"
 
 namespace facesr {
 namespace {
@@ -24,6 +26,12 @@ std::string tetgen_error(int code) {
 
 TetMesh tetrahedralize(const TriMesh& b, const std::vector<Vec3>& holes, const TetgenOptions& opt) {
   require(b.V.rows() >= 4 && b.F.rows() >= 4, "tetrahedralize: boundary surface is empty");
+  // TetGen's library build aborts the process (instead of throwing) on some
+  // intersecting inputs, so reject them here with a clear message.
+  const SurfaceCheck chk = check_surface(b);
+  require(chk.closed, "tetrahedralize: the boundary surface is not closed");
+  require(!chk.self_intersects, "tetrahedralize: the boundary surface intersects itself (skin and bone surfaces "
+                                "overlap or fold); try a finer --flesh-grid");
   tetgenio in, out;
   in.firstnumber = 0;
   in.numberofpoints = int(b.V.rows());
@@ -49,7 +57,8 @@ TetMesh tetrahedralize(const TriMesh& b, const std::vector<Vec3>& holes, const T
       for (int k = 0; k < 3; ++k) in.holelist[3 * h + k] = holes[h][k];
   }
   std::ostringstream sw;
-  sw << "pzQ" << "q" << opt.radius_edge << "/" << opt.min_dihedral;
+  // FACESR_TETGEN_VERBOSE=1 shows TetGen's own log when a mesh fails.
+  sw << "pz" << (std::getenv("FACESR_TETGEN_VERBOSE") ? "V" : "Q") << "q" << opt.radius_edge << "/" << opt.min_dihedral;
   if (opt.max_volume > 0) sw << "a" << opt.max_volume;
   if (opt.preserve_boundary) sw << "Y";
   std::string switches = sw.str();

@@ -187,6 +187,12 @@ TriMesh FleshDomain::bone_surface(double edge, bool verbose) const {
   out.V = V.topRows(nv);
   out.F.resize(long(tris.size()), 3);
   for (size_t t = 0; t < tris.size(); ++t) out.F.row(long(t)) = tris[t].cast<int32_t>().transpose();
+  // Remeshing can fold thin bone plates into themselves; TetGen needs a
+  // clean surface.
+  const RepairReport rep = repair_self_intersections(out);
+  if (verbose && rep.initial_pairs > 0)
+    std::fprintf(stderr, "[rig] bone surface: repaired %ld self-intersecting pairs (moved %ld vertices, max %.3f cm)\n",
+                 rep.initial_pairs, rep.moved, rep.max_displacement);
   if (verbose)
     std::fprintf(stderr, "[rig] bone surface: %ld vertices, %ld triangles, %d shells (%d kept)\n",
                  long(out.V.rows()), long(out.F.rows()), nc,

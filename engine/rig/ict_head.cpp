@@ -1,6 +1,7 @@
 #include "rig/ict_head.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -9,6 +10,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "mesh/obj_io.h"
+#include "mesh/remesh.h"
 #include "rig/landmarks.h"
 
 namespace facesr {
@@ -91,6 +93,12 @@ HeadSource load_ict_head(const std::string& folder, bool verbose) {
   for (size_t k = 0; k < loop.size(); ++k)
     src.skin.F.row(nf + long(k)) << loop[(k + 1) % loop.size()], loop[k], nskin;
   for (int v = 0; v <= kFaceEnd; ++v) src.face_vertices.push_back(v);
+  // The FaceKit lips overlap slightly at the mouth corners; TetGen needs a
+  // surface without self-intersections.
+  const RepairReport rep = repair_self_intersections(src.skin);
+  if (verbose && rep.initial_pairs > 0)
+    std::fprintf(stderr, "[rig] repaired %ld self-intersecting triangle pairs: moved %ld vertices by at most %.3f cm\n",
+                 rep.initial_pairs, rep.moved, rep.max_displacement);
 
   src.teeth_upper = extract(full, kUpperTeeth0, kUpperTeeth1);
   src.teeth_lower = extract(full, kLowerTeeth0, kLowerTeeth1);
