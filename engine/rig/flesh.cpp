@@ -141,7 +141,22 @@ double FleshDomain::jaw_weight(const Vec3& p) const {
 }
 
 TriMesh FleshDomain::bone_surface(double edge, bool verbose) const {
-  TriMesh raw = marching_tets(grid_, bone_);
+  // Blur the indicator a little: thin bone plates where two thickness bands
+  // nearly meet are artefacts, and they fold when remeshed.
+  std::vector<float> g = bone_;
+  for (int it = 0; it < 2; ++it) {
+    std::vector<float> next = g;
+#pragma omp parallel for schedule(static)
+    for (int k = 1; k < grid_.nz - 1; ++k)
+      for (int j = 1; j < grid_.ny - 1; ++j)
+        for (int i = 1; i < grid_.nx - 1; ++i) {
+          const long c = grid_.index(i, j, k);
+          next[c] = 0.4f * g[c] + 0.1f * (g[c - 1] + g[c + 1] + g[c - grid_.nx] + g[c + grid_.nx] +
+                                          g[c - long(grid_.nx) * grid_.ny] + g[c + long(grid_.nx) * grid_.ny]);
+        }
+    g.swap(next);
+  }
+  TriMesh raw = marching_tets(grid_, g);
   require(raw.F.rows() > 0, src_.name + ": no bone found under the skin (is the head too thin?)");
   TriMesh m = remesh_isotropic(raw, edge, 3);
   // Drop small shells (isolated bone specks where the thickness field dips):
@@ -189,7 +204,15 @@ TriMesh FleshDomain::bone_surface(double edge, bool verbose) const {
   for (size_t t = 0; t < tris.size(); ++t) out.F.row(long(t)) = tris[t].cast<int32_t>().transpose();
   // Remeshing can fold thin bone plates into themselves; TetGen needs a
   // clean surface.
-  const RepairReport rep = repair_self_intersections(out);
+  RepairReport rep;
+  try {
+    rep = repair_self_intersections(out);
+  } catch (const Error& e) {
+    // A piecewise-linear level set on a tetrahedral grid never intersects
+    // itself, so the unremeshed surface is a safe (if less regular) fallback.
+    if (verbose) std::fprintf(stderr, "[rig] bone surface: %s; using the unremeshed surface\n", e.what());
+    return raw;
+  }
   if (verbose && rep.initial_pairs > 0)
     std::fprintf(stderr, "[rig] bone surface: repaired %ld self-intersecting pairs (moved %ld vertices, max %.3f cm)\n",
                  rep.initial_pairs, rep.moved, rep.max_displacement);

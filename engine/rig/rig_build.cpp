@@ -132,11 +132,18 @@ void lip_vertices(const Rig& rig, std::vector<int>& upper, std::vector<int>& low
   };
   const Vec3 cl = lm("mouth_corner_L"), cr = lm("mouth_corner_R"), top = lm("upper_lip_top"), bot = lm("lower_lip_bottom");
   const double zmin = std::min(cl.z(), cr.z()) - 1.0;
+  // The lips proper: the commissures (within 15% of the mouth width of a
+  // corner) join both lips and are not separable; weights near 0.5 are
+  // neither lip.
+  const double margin = 0.15 * (cl.x() - cr.x());
   for (int v = 0; v < rig.surface.rows(); ++v) {
     const Vec3 p = rig.surface.row(v);
-    if (p.x() < cr.x() - 0.4 || p.x() > cl.x() + 0.4 || p.y() < bot.y() - 0.3 || p.y() > top.y() + 0.3 || p.z() < zmin)
+    if (p.x() < cr.x() + margin || p.x() > cl.x() - margin || p.y() < bot.y() - 0.3 || p.y() > top.y() + 0.3 ||
+        p.z() < zmin)
       continue;
-    (rig.predeform.surface_jaw_weight[v] < 0.5 ? upper : lower).push_back(v);
+    const float w = rig.predeform.surface_jaw_weight[v];
+    if (w < 0.3f) upper.push_back(v);
+    else if (w > 0.7f) lower.push_back(v);
   }
 }
 

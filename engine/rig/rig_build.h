@@ -11,7 +11,7 @@ struct RigBuildOptions {
   std::string muscles_path;           // muscle spec JSON; empty = built-in
   double flesh_grid_h = 0.2;          // cm, signed-distance grid for the flesh
   double bone_edge = 0.5;             // cm, bone surface edge length
-  double hr_max_volume = 0.02;        // cm³, TetGen -a (0 = none)
+  double hr_max_volume = 0.008;       // cm³, TetGen -a (0 = none)
   double hr_radius_edge = 1.6;        // TetGen -q radius-edge bound
   double lr_cell = 0.8;               // cm, lattice cell size
   double min_hr_over_lr = 20;         // coarsen the lattice until hr_tets/lr_tets reaches this
