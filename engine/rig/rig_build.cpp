@@ -21,7 +21,6 @@
 #include "rig/muscles.h"
 
 namespace facesr {
-namespace {
 
 Jaw fit_jaw(const HeadSource& src) {
   Jaw jaw;
@@ -45,6 +44,8 @@ Jaw fit_jaw(const HeadSource& src) {
   }
   return jaw;
 }
+
+namespace {
 
 // Face-triangle connected components of a triangle mesh.
 std::vector<int> face_components(const Tris& F, long nv, int& count) {

@@ -1,6 +1,7 @@
 #pragma once
 #include <string>
 
+#include "rig/head_source.h"
 #include "rig/procedural_head.h"
 #include "rig/rig.h"
 
@@ -23,6 +24,9 @@ struct RigBuildOptions {
 // Builds the anatomical rig from a head: bones and jaw, HR conforming tets,
 // LR lattice, embeddings, muscles, attachments, tracks (paper §4).
 Rig build_rig(const RigBuildOptions& opt);
+
+// Rigid motion of each jaw shape from its lower teeth, and the jawOpen hinge.
+Jaw fit_jaw(const HeadSource& src);
 
 // Upper and lower lip vertex sets on the face surface (for checks and tests).
 void lip_vertices(const Rig& rig, std::vector<int>& upper, std::vector<int>& lower);
