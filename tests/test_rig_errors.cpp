@@ -65,21 +65,22 @@ constexpr int kTotalVerts = 21451;  // ... up to the lower teeth (21450)
 constexpr int kGridW = 158, kGridH = 89;
 static_assert(kGridW * kGridH == kSkinVerts, "skin grid must cover the skin range exactly");
 
-// A fake FaceKit neutral: the skin range is a wavy height-field grid (a disk
-// with a single boundary loop and no self-intersections, so the loader gets
-// past the neck-cap step), the remaining vertices are loose points.
+// A fake FaceKit neutral: the skin range is a grid on a deep paraboloid bowl
+// (a disk with a single boundary loop; the loader's fan cap over that loop
+// stays above the bowl, so there are no self-intersections and the loader
+// gets past the neck-cap step), the remaining vertices are loose points.
 void write_fake_neutral(const fs::path& p) {
   std::string s;
   s.reserve(2 << 20);
   char buf[128];
   for (int j = 0; j < kGridH; ++j)
     for (int i = 0; i < kGridW; ++i) {
-      const double x = 0.1 * i, y = 0.1 * j, z = 0.05 * std::sin(x) * std::cos(y);
+      const double x = 0.1 * (i - 0.5 * (kGridW - 1)), y = 0.1 * (j - 0.5 * (kGridH - 1)), z = x * x + y * y;
       std::snprintf(buf, sizeof buf, "v %.6f %.6f %.6f\n", x, y, z);
       s += buf;
     }
   for (int k = kSkinVerts; k < kTotalVerts; ++k) {
-    std::snprintf(buf, sizeof buf, "v %.6f %.6f %.6f\n", 0.01 * (k % 100), -5.0 - 0.01 * (k / 100), 1.0);
+    std::snprintf(buf, sizeof buf, "v %.6f %.6f %.6f\n", 0.01 * (k % 100), 0.01 * (k / 100), -5.0);
     s += buf;
   }
   for (int j = 0; j + 1 < kGridH; ++j)
