@@ -66,11 +66,13 @@ void register_rig(CLI::App& app) {
   build->add_option("--preview", b.preview, "Also render a PNG preview of the rig");
   build->add_flag("--json", b.json, "Print the rig summary as JSON on stdout");
   build->add_flag("--quiet,-q", [](int64_t) { b.opt.verbose = false; }, "No progress output");
-  add_action(build, [] {
-    // Overrides given on the command line win over the preset's values.
+  add_action(build, [build] {
+    // Options given on the command line win over the preset's values.
     BuildArgs a = b;
     apply_preset(a);
-    for (const char* name : {"--lr-cell", "--hr-max-volume", "--flesh-grid"}) (void)name;
+    if (build->count("--lr-cell")) a.opt.lr_cell = b.opt.lr_cell;
+    if (build->count("--hr-max-volume")) a.opt.hr_max_volume = b.opt.hr_max_volume;
+    if (build->count("--flesh-grid")) a.opt.flesh_grid_h = b.opt.flesh_grid_h;
     const auto parent = std::filesystem::path(a.out).parent_path();
     require(parent.empty() || std::filesystem::is_directory(parent),
             "output folder '" + parent.string() + "' does not exist");
@@ -95,7 +97,17 @@ void register_rig(CLI::App& app) {
   preview->add_option("--out,-o", pv_out, "Output PNG")->required();
   preview->add_option("--width", pv_opt.width, "Image width (pixels)");
   preview->add_option("--height", pv_opt.height, "Image height (pixels)");
-  add_action(preview, [] { render_rig_preview(load_rig(pv_rig), pv_out, pv_opt); });
+  static bool pv_json = false;
+  preview->add_flag("--json", pv_json, "JSON summary on stdout");
+  add_action(preview, [] {
+    const Rig r = load_rig(pv_rig);
+    render_rig_preview(r, pv_out, pv_opt);
+    if (pv_json)
+      std::printf("%s\n", nlohmann::json({{"png", pv_out}, {"width", pv_opt.width}, {"height", pv_opt.height},
+                                          {"muscles", r.muscles.size()}, {"units", r.units}})
+                               .dump(2)
+                               .c_str());
+  });
 }
 
 }  // namespace facesr::cli
