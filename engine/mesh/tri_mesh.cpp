@@ -59,6 +59,22 @@ std::vector<std::vector<int>> boundary_loops(const Tris& F) {
   return loops;
 }
 
+std::vector<int> face_components(const Tris& F, long nv, int& count) {
+  std::vector<int> parent(nv);
+  for (long i = 0; i < nv; ++i) parent[i] = int(i);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (int f = 0; f < F.rows(); ++f)
+    for (int k = 1; k < 3; ++k) parent[find(F(f, 0))] = find(F(f, k));
+  std::unordered_map<int, int> id;
+  std::vector<int> comp(F.rows());
+  for (int f = 0; f < F.rows(); ++f) comp[f] = id.emplace(find(F(f, 0)), int(id.size())).first->second;
+  count = int(id.size());
+  return comp;
+}
+
 void bounding_box(const Points& V, Vec3& lo, Vec3& hi) {
   lo = V.colwise().minCoeff().transpose();
   hi = V.colwise().maxCoeff().transpose();

@@ -161,27 +161,12 @@ TriMesh FleshDomain::bone_surface(double edge, bool verbose) const {
   TriMesh m = remesh_isotropic(raw, edge, 3);
   // Drop small shells (isolated bone specks where the thickness field dips):
   // they would only make tiny cavities in the flesh.
-  std::vector<int> comp(m.F.rows(), -1);
-  std::vector<std::vector<int>> vf(m.V.rows());
-  for (int f = 0; f < m.F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) vf[m.F(f, k)].push_back(f);
-  std::vector<double> area;
   int nc = 0;
-  for (int f0 = 0; f0 < m.F.rows(); ++f0) {
-    if (comp[f0] >= 0) continue;
-    area.push_back(0);
-    std::vector<int> stack{f0};
-    comp[f0] = nc;
-    while (!stack.empty()) {
-      const int f = stack.back();
-      stack.pop_back();
-      const Vec3 a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), c = m.V.row(m.F(f, 2));
-      area[nc] += 0.5 * (b - a).cross(c - a).norm();
-      for (int k = 0; k < 3; ++k)
-        for (int g : vf[m.F(f, k)])
-          if (comp[g] < 0) comp[g] = nc, stack.push_back(g);
-    }
-    ++nc;
+  const std::vector<int> comp = face_components(m.F, m.V.rows(), nc);
+  std::vector<double> area(nc, 0.0);
+  for (int f = 0; f < m.F.rows(); ++f) {
+    const Vec3 a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), c = m.V.row(m.F(f, 2));
+    area[comp[f]] += 0.5 * (b - a).cross(c - a).norm();
   }
   const double min_area = 4.0;  // cm²
   std::vector<int> keep_v(m.V.rows(), -1);

@@ -47,27 +47,6 @@ Jaw fit_jaw(const HeadSource& src) {
 
 namespace {
 
-// Face-triangle connected components of a triangle mesh.
-std::vector<int> face_components(const Tris& F, long nv, int& count) {
-  std::vector<int> parent(nv);
-  for (long i = 0; i < nv; ++i) parent[i] = int(i);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (int f = 0; f < F.rows(); ++f)
-    for (int k = 1; k < 3; ++k) parent[find(F(f, 0))] = find(F(f, k));
-  std::map<int, int> id;
-  std::vector<int> comp(F.rows());
-  for (int f = 0; f < F.rows(); ++f) {
-    const int r = find(F(f, 0));
-    auto it = id.emplace(r, int(id.size())).first;
-    comp[f] = it->second;
-  }
-  count = int(id.size());
-  return comp;
-}
-
 // One point strictly inside each closed shell: from a triangle's centroid,
 // step inward half way to the opposite wall.
 std::vector<Vec3> hole_points(const TriMesh& shells) {
@@ -282,7 +261,6 @@ Rig build_rig(const RigBuildOptions& opt) {
   }
 
   std::vector<int> upper, lower;
-  rig.landmark_names.size();
   rig.predeform.surface_predeformed = rig.surface;
   lip_vertices(rig, upper, lower);
   double cell = opt.lr_cell;
