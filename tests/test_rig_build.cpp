@@ -14,43 +14,20 @@
 #include "rig/rig_build.h"
 #include "rig/rig_io.h"
 #include "rig/rig_summary.h"
+#include "test_support.h"
 
 using namespace facesr;
 
 namespace {
 
-RigBuildOptions coarse() {
-  RigBuildOptions o;
-  o.source = "procedural";
-  o.procedural.grid_h = 0.25;
-  o.procedural.edge = 0.8;
-  o.flesh_grid_h = 0.3;
-  o.bone_edge = 0.8;
-  o.hr_max_volume = 0.15;
-  o.lr_cell = 1.2;
-  o.min_hr_over_lr = 0;
-  o.verbose = false;
-  return o;
-}
-
-const Rig& procedural_rig() {
-  static const Rig rig = build_rig(coarse());
-  return rig;
-}
-
-double face_size(const Rig& r) {
-  return (r.surface.colwise().maxCoeff() - r.surface.colwise().minCoeff()).norm();
-}
+using fixtures::face_size;
+using fixtures::ict_dir;
+using fixtures::procedural_rig;
 
 Vec3 embedded(const TetMesh& m, const Embedding& e, int i) {
   Vec3 p = Vec3::Zero();
   for (int k = 0; k < 4; ++k) p += double(e.weights[size_t(i) * 4 + k]) * Vec3(m.X.row(m.T(e.tet[i], k)));
   return p;
-}
-
-std::string ict_dir() {
-  const char* env = std::getenv("FACESR_ICT_DIR");
-  return env ? env : FACESR_TEST_ICT_DIR;
 }
 
 }  // namespace

@@ -1,0 +1,162 @@
+// CPU reference simulator: the Newton / PCG / line-search loop of
+// SolverOptions on the energy of cpu_forces.h. The OpenCL simulator runs the
+// same algorithm with device buffers.
+#include <Eigen/Dense>
+#include <chrono>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "sim/cpu_forces.h"
+#include "sim/simulator.h"
+
+namespace facesr {
+
+void embed_surface(const SimModel& m, const std::vector<double>& x, std::vector<double>& s) {
+  s.assign(3 * size_t(m.num_surface), 0.0);
+  for (int v = 0; v < m.num_surface; ++v)
+    for (int k = 0; k < 4; ++k) {
+      const int n = m.surf_nodes[4 * v + k];
+      const double w = m.surf_weights[4 * v + k];
+      for (int c = 0; c < 3; ++c) s[3 * v + c] += w * x[3 * size_t(n) + c];
+    }
+}
+
+namespace {
+
+double dot(const std::vector<double>& a, const std::vector<double>& b) {
+  double s = 0;
+#pragma omp parallel for reduction(+ : s) schedule(static)
+  for (long i = 0; i < long(a.size()); ++i) s += a[i] * b[i];
+  return s;
+}
+
+class CpuSimulator final : public Simulator {
+ public:
+  CpuSimulator(const SimModel& m, const SolverOptions& opt) : m_(m), opt_(opt) { reset(); }
+
+  void reset() override { x_ = m_.rest; }
+  void nodes(std::vector<double>& x) const override { x = x_; }
+  void surface(std::vector<double>& s) const override { embed_surface(m_, x_, s); }
+  void set_nodes(const std::vector<double>& x) override {
+    require(x.size() == x_.size(), "set_nodes: expected " + std::to_string(x_.size()) + " values, got " +
+                                       std::to_string(x.size()));
+    x_ = x;
+  }
+  std::string device() const override { return "cpu-reference (Eigen, double)"; }
+  const SimModel& model() const override { return m_; }
+
+  StepStats step(const Controls& c) override {
+    const auto t0 = std::chrono::steady_clock::now();
+    const FrameInputs in = prepare_frame(m_, c);
+    const std::vector<double> alpha = tet_activations(m_, in);
+    StepStats st;
+    const size_t n = x_.size();
+
+    std::vector<double> g(n), xr = m_.rest;
+    dirichlet_positions(m_, in, xr);
+    energy_gradient(m_, in, alpha, xr, g);
+    mask(g);
+    const double mu = m_.material.shear_modulus();
+    const double ref = std::max(std::sqrt(dot(g, g)), 1e-3 * mu * m_.mean_edge * m_.mean_edge);
+
+    dirichlet_positions(m_, in, x_);
+    ElementHessian H;
+    std::vector<double> d(n), xt(n);
+    for (int it = 0;; ++it) {
+      energy_gradient(m_, in, alpha, x_, g);
+      mask(g);
+      st.rel_residual = std::sqrt(dot(g, g)) / ref;
+      if (!std::isfinite(st.rel_residual)) throw Error("simulation diverged (non-finite forces)");
+      if (st.rel_residual <= opt_.newton_tol) {
+        st.converged = true;
+        break;
+      }
+      if (it >= opt_.newton_max) break;
+      element_hessian(m_, in, alpha, x_, true, H);
+      st.cg_iters += pcg(H, g, d);
+      ++st.newton_iters;
+      const double e0 = total_energy(m_, in, alpha, x_);
+      const double slope = dot(g, d);
+      double a = 1;
+      bool accepted = false;
+      for (int ls = 0; ls <= opt_.line_search_max; ++ls) {
+        for (size_t i = 0; i < n; ++i) xt[i] = x_[i] + a * d[i];
+        const double e = total_energy(m_, in, alpha, xt);
+        if (std::isfinite(e) && e <= e0 + 1e-4 * a * slope) {
+          accepted = true;
+          break;
+        }
+        a *= 0.5;
+        ++st.line_search_halvings;
+      }
+      if (!accepted) break;  // no descent along d: report the residual as is
+      x_.swap(xt);
+    }
+    st.energy = total_energy(m_, in, alpha, x_);
+    st.inverted_tets = count_inverted(m_, x_);
+    st.ms = 1e3 * seconds_since(t0);
+    return st;
+  }
+
+ private:
+  void mask(std::vector<double>& v) const {
+    for (int i = 0; i < m_.num_nodes; ++i)
+      if (m_.node_bone[i]) v[3 * i] = v[3 * i + 1] = v[3 * i + 2] = 0;
+  }
+
+  // Solves K d = −g on the free nodes with block-Jacobi PCG; returns iterations.
+  int pcg(const ElementHessian& H, const std::vector<double>& g, std::vector<double>& d) {
+    const size_t n = g.size();
+    std::vector<Eigen::Matrix3d> Minv(m_.num_nodes);
+    for (int v = 0; v < m_.num_nodes; ++v) {
+      Eigen::Matrix3d D = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&H.diag[9 * size_t(v)]);
+      const double det = D.determinant();
+      Minv[v] = (m_.node_bone[v] || !(std::abs(det) > 1e-300)) ? Eigen::Matrix3d::Zero() : Eigen::Matrix3d(D.inverse());
+    }
+    auto precond = [&](const std::vector<double>& r, std::vector<double>& z) {
+      for (int v = 0; v < m_.num_nodes; ++v) {
+        const Eigen::Vector3d rv(r[3 * v], r[3 * v + 1], r[3 * v + 2]);
+        const Eigen::Vector3d zv = Minv[v] * rv;
+        for (int k = 0; k < 3; ++k) z[3 * v + k] = zv[k];
+      }
+    };
+    std::vector<double> r(n), z(n), p(n), q(n);
+    for (size_t i = 0; i < n; ++i) r[i] = -g[i], d[i] = 0;
+    const double bnorm = std::sqrt(dot(r, r));
+    if (bnorm == 0) return 0;
+    precond(r, z);
+    p = z;
+    double rz = dot(r, z);
+    int it = 0;
+    while (it < opt_.cg_max) {
+      hessian_product(m_, H, p, q);
+      mask(q);
+      const double pq = dot(p, q);
+      if (!(pq > 0)) break;
+      const double a = rz / pq;
+      for (size_t i = 0; i < n; ++i) d[i] += a * p[i], r[i] -= a * q[i];
+      ++it;
+      if (std::sqrt(dot(r, r)) <= opt_.cg_tol * bnorm) break;
+      precond(r, z);
+      const double rz1 = dot(r, z);
+      const double b = rz1 / rz;
+      rz = rz1;
+      for (size_t i = 0; i < n; ++i) p[i] = z[i] + b * p[i];
+    }
+    if (it == 0) d = z;  // fall back to the preconditioned steepest descent direction
+    return it;
+  }
+
+  SimModel m_;
+  SolverOptions opt_;
+  std::vector<double> x_;
+};
+
+}  // namespace
+
+std::unique_ptr<Simulator> make_cpu_simulator(const SimModel& model, const SolverOptions& opt) {
+  return std::make_unique<CpuSimulator>(model, opt);
+}
+
+}  // namespace facesr

@@ -1,0 +1,55 @@
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim/controls.h"
+#include "sim/sim_model.h"
+
+namespace facesr {
+
+// Quasistatic solve per frame: Newton on the total energy, a block-Jacobi
+// preconditioned CG for each Newton step, backtracking (Armijo) line search,
+// warm start from the previous frame.
+struct SolverOptions {
+  double newton_tol = 1e-3;  // stop when |∇E_free| ≤ tol · reference residual (see StepStats)
+  int newton_max = 20;
+  double cg_tol = 1e-2;      // relative residual of each linear solve
+  int cg_max = 400;
+  int line_search_max = 16;  // halvings
+};
+
+struct StepStats {
+  int newton_iters = 0;
+  int cg_iters = 0;           // summed over Newton iterations
+  int line_search_halvings = 0;
+  // |∇E over free nodes| / reference, the reference being the same norm at
+  // the undeformed mesh with this frame's bone motion and controls (floored at
+  // 1e-3 · μ · h² so that a control-free frame is judged in absolute terms).
+  double rel_residual = 0;
+  double energy = 0;          // kPa·cm³ (mJ)
+  bool converged = false;
+  int inverted_tets = 0;      // tets with det F ≤ 0 after the step
+  double ms = 0;              // wall time of the step
+};
+
+class Simulator {
+ public:
+  virtual ~Simulator() = default;
+  // Solves one frame; throws Error on invalid controls (state unchanged).
+  virtual StepStats step(const Controls& c) = 0;
+  virtual void reset() = 0;  // back to the rest pose (no warm start)
+  // Current node positions (node × 3) and embedded face surface (vertex × 3), cm.
+  virtual void nodes(std::vector<double>& x) const = 0;
+  virtual void surface(std::vector<double>& s) const = 0;
+  virtual void set_nodes(const std::vector<double>& x) = 0;  // warm start from given positions
+  virtual std::string device() const = 0;
+  virtual const SimModel& model() const = 0;
+};
+
+std::unique_ptr<Simulator> make_cpu_simulator(const SimModel& model, const SolverOptions& opt = {});
+
+// Face surface from node positions via the embedding.
+void embed_surface(const SimModel& m, const std::vector<double>& x, std::vector<double>& s);
+
+}  // namespace facesr

@@ -1,0 +1,17 @@
+#pragma once
+// Shared fixtures: the coarse procedural rig (built once per test binary) and
+// the location of the ICT FaceKit data.
+#include <string>
+
+#include "rig/rig.h"
+#include "rig/rig_build.h"
+
+namespace facesr::fixtures {
+
+RigBuildOptions coarse_rig_options();
+const Rig& procedural_rig();  // coarse preset, built on first use (~4 s)
+double face_size(const Rig& r);
+std::string ict_dir();  // $FACESR_ICT_DIR or ../shared/data/ict-facekit
+bool have_ict();
+
+}  // namespace facesr::fixtures
