@@ -1,0 +1,141 @@
+// Built-in performances for demos, tests and dataset generation when no
+// captured performance is at hand. All are sampled at 30 fps and start from
+// the neutral face (every weight 0 at t = 0), so a simulation can start at rest.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+
+#include "core/checksum.h"
+#include "core/error.h"
+#include "perf/performance.h"
+
+namespace facesr {
+namespace {
+
+constexpr double kFps = 30;
+
+// Rig shapes that play the role of an ARKit base name: the name itself or its
+// left/right halves, in ARKit ("mouthSmileLeft") or ICT ("mouthSmile_L") style.
+std::vector<size_t> shapes_for(const std::string& base, const std::vector<std::string>& names) {
+  std::vector<size_t> out;
+  for (size_t i = 0; i < names.size(); ++i)
+    for (const char* suffix : {"", "_L", "_R", "Left", "Right"})
+      if (names[i] == base + suffix) out.push_back(i);
+  return out;
+}
+
+// 0 → 1 → 0, linear, peaking at the midpoint.
+double triangle(double t, double duration) { return std::max(0.0, 1.0 - std::abs(2 * t / duration - 1)); }
+
+double smoothstep(double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  return x * x * (3 - 2 * x);
+}
+
+// Fades a take in and out over `ramp` seconds so it starts and ends neutral.
+double envelope(double t, double duration, double ramp) {
+  return smoothstep(t / ramp) * smoothstep((duration - t) / ramp);
+}
+
+using Curve = std::function<double(double t)>;
+
+// Samples one curve per set of rig shapes (given by index) at 30 fps over [0, duration].
+Performance sample(const std::string& name, double duration, const std::vector<std::string>& rig_names,
+                   const std::vector<std::pair<std::vector<size_t>, Curve>>& curves) {
+  Performance p;
+  p.name = name;
+  p.fps = kFps;
+  p.names = rig_names;
+  const int frames = int(std::lround(duration * kFps)) + 1;
+  p.weights.assign(size_t(frames) * rig_names.size(), 0.0f);
+  for (const auto& [shapes, curve] : curves)
+    for (size_t s : shapes)
+      for (int f = 0; f < frames; ++f)
+        p.weights[size_t(f) * rig_names.size() + s] = float(std::clamp(curve(f / kFps), 0.0, 1.0));
+  return p;
+}
+
+// Same, with shapes named by ARKit base name (see shapes_for).
+Performance sample(const std::string& name, double duration, const std::vector<std::string>& rig_names,
+                   const std::vector<std::pair<std::string, Curve>>& curves) {
+  std::vector<std::pair<std::vector<size_t>, Curve>> indexed;
+  for (const auto& [base, curve] : curves) indexed.emplace_back(shapes_for(base, rig_names), curve);
+  return sample(name, duration, rig_names, indexed);
+}
+
+Performance smile(const std::vector<std::string>& names) {
+  return sample("smile", 2.0, names, {{"mouthSmile", [](double t) { return triangle(t, 2.0); }}});
+}
+
+Performance jaw(const std::vector<std::string>& names) {
+  return sample("jaw", 2.0, names, {{"jawOpen", [](double t) { return triangle(t, 2.0); }}});
+}
+
+// Speech-like: syllables on the jaw at ~3 Hz, rounding (funnel, pucker)
+// alternating slower, an intermittent smile and brow raises.
+Performance talk(const std::vector<std::string>& names) {
+  constexpr double T = 4.0;
+  auto env = [](double t) { return envelope(t, T, 0.4); };
+  auto bump = [](double x) { return 0.5 - 0.5 * std::cos(x); };
+  auto pos2 = [](double x) { return std::pow(std::max(0.0, std::sin(x)), 2); };
+  const double w = 2 * M_PI;
+  return sample(
+      "talk", T, names,
+      {{"jawOpen",
+        [=](double t) { return env(t) * (0.15 + 0.55 * bump(w * 3.0 * t) * (0.7 + 0.3 * std::sin(w * 0.4 * t))); }},
+       {"mouthFunnel", [=](double t) { return env(t) * 0.6 * pos2(w * 0.75 * t); }},
+       {"mouthPucker", [=](double t) { return env(t) * 0.5 * pos2(w * 0.75 * t + M_PI); }},
+       {"mouthSmile", [=](double t) { return env(t) * 0.45 * bump(w * 0.5 * t); }},
+       {"browInnerUp", [=](double t) { return env(t) * 0.7 * pos2(w * 0.5 * t + 1.0); }}});
+}
+
+// Every shape follows its own random curve through control values every
+// 0.5 s (cosine-eased, so velocities are continuous and vanish at controls).
+// The generator is seeded by a fixed number and the shape's name, so a shape
+// moves the same way on every rig and every run.
+Performance random(const std::vector<std::string>& names) {
+  constexpr double T = 4.0, step = 0.5;
+  constexpr int controls = int(T / step) + 1;
+  std::vector<std::pair<std::vector<size_t>, Curve>> curves;
+  for (size_t s = 0; s < names.size(); ++s) {
+    const std::string& n = names[s];
+    std::mt19937_64 gen(0x5eed5eedull ^ fnv1a64(n.data(), n.size()));
+    // c[0] = 0 starts neutral; the others are uniform in [0, 1), built from
+    // the raw bits because std::uniform_real_distribution differs between
+    // standard libraries.
+    std::vector<double> c(controls, 0.0);
+    for (int i = 1; i < controls; ++i) c[i] = double(gen() >> 11) * 0x1.0p-53;
+    curves.emplace_back(std::vector<size_t>{s}, [c, step](double t) {
+      const int i = std::min(int(t / step), int(c.size()) - 2);
+      const double u = std::clamp(t / step - i, 0.0, 1.0);
+      const double e = 0.5 - 0.5 * std::cos(M_PI * u);
+      return c[i] + e * (c[i + 1] - c[i]);
+    });
+  }
+  return sample("random", T, names, curves);
+}
+
+const std::vector<std::pair<std::string, Performance (*)(const std::vector<std::string>&)>>& table() {
+  static const std::vector<std::pair<std::string, Performance (*)(const std::vector<std::string>&)>> t = {
+      {"smile", smile}, {"jaw", jaw}, {"talk", talk}, {"random", random}};
+  return t;
+}
+
+}  // namespace
+
+std::vector<std::string> builtin_performance_names() {
+  std::vector<std::string> out;
+  for (const auto& e : table()) out.push_back(e.first);
+  return out;
+}
+
+Performance builtin_performance(const std::string& name, const std::vector<std::string>& rig_names) {
+  for (const auto& e : table())
+    if (e.first == name) return e.second(rig_names);
+  std::string valid;
+  for (const auto& n : builtin_performance_names()) valid += (valid.empty() ? "" : ", ") + n;
+  throw Error("unknown built-in performance '" + name + "' (valid: " + valid + ")");
+}
+
+}  // namespace facesr
