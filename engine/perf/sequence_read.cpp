@@ -1,0 +1,98 @@
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "core/binary_io.h"
+#include "core/checksum.h"
+#include "core/error.h"
+#include "perf/sequence_format.h"
+#include "perf/sequence_io.h"
+
+namespace facesr {
+namespace {
+
+std::string hex(uint64_t v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "0x%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+std::string printable(const uint8_t* p, size_t n) {
+  std::string s;
+  for (size_t i = 0; i < n; ++i) s += std::isprint(p[i]) ? char(p[i]) : '?';
+  return s;
+}
+
+}  // namespace
+
+Sequence read_sequence(const std::string& path) {
+  const std::vector<uint8_t> bytes = read_file_bytes(path);
+  const size_t magic_size = fsq::kMagic.size();
+  require(bytes.size() >= magic_size,
+          path + ": truncated (" + std::to_string(bytes.size()) + " bytes, too short for a sequence file)");
+  require(std::memcmp(bytes.data(), fsq::kMagic.data(), magic_size) == 0,
+          path + ": not a facesr sequence file (bad magic '" + printable(bytes.data(), magic_size) +
+              "', expected 'FACESRSQ')");
+
+  ByteReader r(bytes.data(), bytes.size(), path);
+  r.get<uint64_t>("magic");
+  const auto version = r.get<uint32_t>("format version");
+  require(version == fsq::kVersion, path + ": unsupported sequence format version " + std::to_string(version) +
+                                        " (this build reads version " + std::to_string(fsq::kVersion) + ")");
+  Sequence seq;
+  SequenceHeader& h = seq.header;
+  h.units = r.get_string("units");
+  h.resolution = r.get_string("resolution");
+  h.rig_checksum = r.get<uint64_t>("rig checksum");
+  h.fps = r.get<double>("fps");
+  h.num_nodes = r.get<uint64_t>("node count");
+  h.num_surface = r.get<uint64_t>("surface vertex count");
+  h.num_frames = r.get<uint64_t>("frame count");
+  fsq::validate_header(h, path);
+
+  // Sizes before the checksum, so a cut-off file is reported as truncated
+  // rather than as corrupt.
+  const uint64_t per_frame = fsq::frame_bytes(h), available = r.remaining();
+  const uint64_t frames_fit = available >= 8 ? (available - 8) / per_frame : 0;
+  require(h.num_frames >= 1, path + ": has no frames");
+  require(h.num_frames <= frames_fit,
+          path + ": truncated: the header promises " + std::to_string(h.num_frames) + " frames of " +
+              std::to_string(per_frame) + " bytes, but only " + std::to_string(frames_fit) + " fit in the file's " +
+              std::to_string(bytes.size()) + " bytes");
+  const uint64_t expected = r.position() + h.num_frames * per_frame + 8;
+  require(bytes.size() == expected, path + ": " + std::to_string(bytes.size() - expected) +
+                                        " unexpected bytes after the checksum (the file has " +
+                                        std::to_string(bytes.size()) + ", expected " + std::to_string(expected) + ")");
+  uint64_t stored;
+  std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
+  const uint64_t computed = fnv1a64(bytes.data(), bytes.size() - 8);
+  require(stored == computed, path + ": checksum mismatch (stored " + hex(stored) + ", computed " + hex(computed) +
+                                  "): the file is corrupt");
+
+  const uint64_t F = h.num_frames, nn = h.num_nodes * 3, ns = h.num_surface * 3;
+  seq.time.resize(F);
+  seq.nodes.resize(F * nn);
+  seq.surface.resize(F * ns);
+  const uint8_t* p = bytes.data() + r.position();
+  for (uint64_t f = 0; f < F; ++f, p += per_frame) {
+    const std::string where = path + ": frame " + std::to_string(f) + ": ";
+    double t;
+    std::memcpy(&t, p, sizeof t);
+    require(std::isfinite(t), where + "time is not finite");
+    require(f == 0 || t > seq.time[f - 1], where + "time " + std::to_string(t) + " s is not after the previous frame's " +
+                                               std::to_string(seq.time[f - 1]) + " s");
+    seq.time[f] = t;
+    float* nodes = seq.nodes.data() + f * nn;
+    float* surface = seq.surface.data() + f * ns;
+    if (nn) std::memcpy(nodes, p + sizeof t, nn * sizeof(float));
+    if (ns) std::memcpy(surface, p + sizeof t + nn * sizeof(float), ns * sizeof(float));
+    if (const long i = fsq::first_non_finite(nodes, nn); i >= 0)
+      throw Error(where + "node " + std::to_string(i / 3) + " has a non-finite coordinate");
+    if (const long i = fsq::first_non_finite(surface, ns); i >= 0)
+      throw Error(where + "surface vertex " + std::to_string(i / 3) + " has a non-finite coordinate");
+  }
+  return seq;
+}
+
+}  // namespace facesr
