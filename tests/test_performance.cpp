@@ -228,7 +228,7 @@ TEST_F(PerformanceFiles, WeightErrors) {
 
 TEST_F(PerformanceFiles, JsonRoundTripIsBitExact) {
   const std::vector<std::string> names = procedural_names();
-  for (const std::string& builtin : {"talk", "random"}) {
+  for (const std::string builtin : {"talk", "random"}) {
     Performance p = builtin_performance(builtin, names);
     p.start_time = 0.25;  // also a start off zero
     const std::string path = (dir_ / (builtin + ".json")).string();

@@ -9,6 +9,8 @@ namespace facesr::cli {
 // the one selected; actions throw facesr::Error on bad input.
 void register_rig(CLI::App& app);
 void register_devices(CLI::App& app);
+void register_render(CLI::App& app);
+void register_perf(CLI::App& app);
 void add_action(CLI::App* sub, std::function<void()> action);
 void run_selected(CLI::App& app);
 

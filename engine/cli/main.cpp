@@ -13,6 +13,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "facesr 0.1.0");
   facesr::cli::register_rig(app);
+  facesr::cli::register_perf(app);
+  facesr::cli::register_render(app);
   facesr::cli::register_devices(app);
   try {
     app.parse(argc, argv);
