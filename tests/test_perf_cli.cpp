@@ -9,10 +9,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "perf/sequence_io.h"
 #include "rig/rig_io.h"
@@ -202,8 +201,8 @@ TEST_F(PerfRenderCli, RenderWritesPngAndJsonSummary) {
   const nlohmann::json g = nlohmann::json::parse(read_text(path("tiny.gltf")));
   EXPECT_EQ(g["meshes"][0]["primitives"][0]["targets"].size(), 7u);
 
-  const CliResult f = run("render --rig " + p("tiny.rig") + " --seq " + p("tiny.fsq") + " --frames 1,6 -o " +
-                          p("two.png") + " --json");
+  const CliResult f =
+      run("render --rig " + p("tiny.rig") + " --seq " + p("tiny.fsq") + " --frames 1,6 -o " + p("two.png") + " --json");
   ASSERT_EQ(f.status, 0) << f.err;
   EXPECT_EQ(nlohmann::json::parse(f.out)["frames"], nlohmann::json({1, 6}));
   EXPECT_HAS(f.err, "[render]");  // progress on stderr without -q

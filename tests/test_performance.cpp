@@ -8,10 +8,9 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "perf/performance.h"
@@ -116,8 +115,8 @@ TEST(Performance, InterpolatesLinearlyBetweenKeyframes) {
 
 TEST(Performance, FramesStartAtFirstKeyframeAndStopAtLast) {
   // Keyframes at 0.5 s and 1.55 s at 10 fps: frames at 0.5, 0.6, ..., 1.5; 1.55 is off the grid.
-  const json j = doc(10, {{{"time", 0.5}, {"weights", {{"jawOpen", 0.0}}}},
-                          {{"time", 1.55}, {"weights", {{"jawOpen", 1.0}}}}});
+  const json j =
+      doc(10, {{{"time", 0.5}, {"weights", {{"jawOpen", 0.0}}}}, {{"time", 1.55}, {"weights", {{"jawOpen", 1.0}}}}});
   const Performance p = performance_from_json(j, kNames, "test");
   ASSERT_EQ(p.frames(), 11);
   EXPECT_DOUBLE_EQ(p.start_time, 0.5);

@@ -1,6 +1,5 @@
 #include <cstdio>
 #include <filesystem>
-
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
@@ -60,9 +59,9 @@ void write(const PerfArgs& a) {
     std::fprintf(stderr, "[perf] wrote %s ('%s', %d frames at %g fps)\n", a.out.c_str(), p.name.c_str(), p.frames(),
                  p.fps);
   if (a.json)
-    std::printf("%s\n", nlohmann::json({{"path", a.out}, {"name", p.name}, {"frames", p.frames()}, {"fps", p.fps}})
-                            .dump(2)
-                            .c_str());
+    std::printf(
+        "%s\n",
+        nlohmann::json({{"path", a.out}, {"name", p.name}, {"frames", p.frames()}, {"fps", p.fps}}).dump(2).c_str());
 }
 
 std::string builtin_list() {

@@ -1,8 +1,7 @@
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "cli/commands.h"
 #include "core/error.h"
@@ -54,9 +53,9 @@ void run_render(const RenderArgs& a) {
   const Rig rig = load_rig(a.rig);
   const Sequence seq = read_sequence(a.seq);
   const int S = rig.num_surface_vertices();
-  require(seq.header.num_surface == uint64_t(S),
-          a.seq + ": has " + std::to_string(seq.header.num_surface) + " surface vertices but rig " + a.rig + " has " +
-              std::to_string(S) + " (was it simulated with another rig?)");
+  require(seq.header.num_surface == uint64_t(S), a.seq + ": has " + std::to_string(seq.header.num_surface) +
+                                                     " surface vertices but rig " + a.rig + " has " +
+                                                     std::to_string(S) + " (was it simulated with another rig?)");
   if (seq.header.rig_checksum != 0 && seq.header.rig_checksum != rig_checksum(rig))
     std::fprintf(stderr, "[render] warning: %s was simulated with a different rig than %s (checksums differ)\n",
                  a.seq.c_str(), a.rig.c_str());
@@ -84,12 +83,8 @@ void run_render(const RenderArgs& a) {
     if (!a.quiet) std::fprintf(stderr, "[render] wrote %s\n", a.gltf.c_str());
   }
   if (a.json) {
-    nlohmann::json j = {{"png", a.out},
-                        {"frames", frames},
-                        {"width", s.width},
-                        {"height", s.height},
-                        {"units", "cm"},
-                        {"max_displacement_cm", s.max_displacement_cm}};
+    nlohmann::json j = {{"png", a.out},       {"frames", frames}, {"width", s.width},
+                        {"height", s.height}, {"units", "cm"},    {"max_displacement_cm", s.max_displacement_cm}};
     if (!a.gltf.empty()) j["gltf"] = a.gltf;
     std::printf("%s\n", j.dump(2).c_str());
   }
@@ -104,8 +99,8 @@ void register_render(CLI::App& app) {
   render->add_option("--seq", a.seq, "Sequence file (.fsq)")->required();
   render->add_option("--out,-o", a.out, "Output PNG")->required();
   auto* frames = render->add_option("--frames", a.frames, "Comma-separated frame indices, e.g. 0,10,20");
-  auto* count = render->add_option("--count", a.count, "Number of evenly spaced frames (default 6)")
-                    ->check(CLI::Range(1, 1024));
+  auto* count =
+      render->add_option("--count", a.count, "Number of evenly spaced frames (default 6)")->check(CLI::Range(1, 1024));
   frames->excludes(count);
   render->add_option("--tile-width", a.opt.tile_width, "Pixels per frame panel (default 360)");
   render->add_option("--columns", a.opt.columns, "Panels per row (default: a near-square grid)");

@@ -132,8 +132,7 @@ Performance performance_from_json(const nlohmann::json& j, const std::vector<std
     perf.name = j["name"].get<std::string>();
   }
   perf.fps = number_field(j, "fps", context);
-  require(perf.fps > 0 && perf.fps <= kMaxFps,
-          context + ": fps " + number_text(perf.fps) + " is not in (0, 1000]");
+  require(perf.fps > 0 && perf.fps <= kMaxFps, context + ": fps " + number_text(perf.fps) + " is not in (0, 1000]");
 
   require(j.contains("keyframes") && j["keyframes"].is_array(), context + ": 'keyframes' is missing or not an array");
   const auto& jk = j["keyframes"];
@@ -144,9 +143,8 @@ Performance performance_from_json(const nlohmann::json& j, const std::vector<std
   keys.reserve(jk.size());
   for (size_t i = 0; i < jk.size(); ++i) {
     keys.push_back(parse_keyframe(jk[i], i, slot, rig_names, context));
-    if (i > 0)
-      require(keys[i].time > keys[i - 1].time,
-              context + ": keyframe " + std::to_string(i) + ": time " + number_text(keys[i].time) +
+    if (i > 0 && !(keys[i].time > keys[i - 1].time))
+      throw Error(context + ": keyframe " + std::to_string(i) + ": time " + number_text(keys[i].time) +
                   " is not after keyframe " + std::to_string(i - 1) + "'s time " + number_text(keys[i - 1].time) +
                   " (times must be strictly increasing)");
   }
@@ -154,8 +152,8 @@ Performance performance_from_json(const nlohmann::json& j, const std::vector<std
   perf.start_time = keys.front().time;
   const double span = (keys.back().time - keys.front().time) * perf.fps;
   require(span < kMaxFrames, context + ": keyframes span " + number_text(keys.back().time - keys.front().time) +
-                                 " s, more than " + number_text(kMaxFrames) + " frames at " +
-                                 number_text(perf.fps) + " fps");
+                                 " s, more than " + number_text(kMaxFrames) + " frames at " + number_text(perf.fps) +
+                                 " fps");
   const int frames = int(std::floor(span + 1e-6)) + 1;
   perf.weights.assign(size_t(frames) * rig_names.size(), 0.0f);
   if (rig_names.empty()) return perf;
@@ -195,15 +193,19 @@ nlohmann::json performance_to_json(const Performance& perf) {
     for (size_t i = 0; i < perf.names.size(); ++i) w[perf.names[i]] = shortest_float(row[i]);
     keyframes.push_back({{"time", perf.time(f)}, {"weights", std::move(w)}});
   }
-  return {{"format", kFormat}, {"version", kVersion}, {"name", perf.name},
-          {"fps", perf.fps},   {"keyframes", std::move(keyframes)}};
+  return {{"format", kFormat},
+          {"version", kVersion},
+          {"name", perf.name},
+          {"fps", perf.fps},
+          {"keyframes", std::move(keyframes)}};
 }
 
 void save_performance_json(const Performance& perf, const std::string& path) {
   // One keyframe per line: readable, diffable, and still plain JSON.
   const nlohmann::json j = performance_to_json(perf);
   std::string text = "{\n";
-  for (const char* key : {"format", "version", "name", "fps"}) text += " \"" + std::string(key) + "\": " + j[key].dump() + ",\n";
+  for (const char* key : {"format", "version", "name", "fps"})
+    text += " \"" + std::string(key) + "\": " + j[key].dump() + ",\n";
   text += " \"keyframes\": [\n";
   const auto& keys = j["keyframes"];
   for (size_t i = 0; i < keys.size(); ++i) text += "  " + keys[i].dump() + (i + 1 < keys.size() ? ",\n" : "\n");

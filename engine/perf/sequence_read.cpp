@@ -56,10 +56,10 @@ Sequence read_sequence(const std::string& path) {
   const uint64_t per_frame = fsq::frame_bytes(h), available = r.remaining();
   const uint64_t frames_fit = available >= 8 ? (available - 8) / per_frame : 0;
   require(h.num_frames >= 1, path + ": has no frames");
-  require(h.num_frames <= frames_fit,
-          path + ": truncated: the header promises " + std::to_string(h.num_frames) + " frames of " +
-              std::to_string(per_frame) + " bytes, but only " + std::to_string(frames_fit) + " fit in the file's " +
-              std::to_string(bytes.size()) + " bytes");
+  require(h.num_frames <= frames_fit, path + ": truncated: the header promises " + std::to_string(h.num_frames) +
+                                          " frames of " + std::to_string(per_frame) + " bytes, but only " +
+                                          std::to_string(frames_fit) + " fit in the file's " +
+                                          std::to_string(bytes.size()) + " bytes");
   const uint64_t expected = r.position() + h.num_frames * per_frame + 8;
   require(bytes.size() == expected, path + ": " + std::to_string(bytes.size() - expected) +
                                         " unexpected bytes after the checksum (the file has " +
@@ -80,7 +80,8 @@ Sequence read_sequence(const std::string& path) {
     double t;
     std::memcpy(&t, p, sizeof t);
     require(std::isfinite(t), where + "time is not finite");
-    require(f == 0 || t > seq.time[f - 1], where + "time " + std::to_string(t) + " s is not after the previous frame's " +
+    require(f == 0 || t > seq.time[f - 1], where + "time " + std::to_string(t) +
+                                               " s is not after the previous frame's " +
                                                std::to_string(seq.time[f - 1]) + " s");
     seq.time[f] = t;
     float* nodes = seq.nodes.data() + f * nn;

@@ -25,8 +25,7 @@ struct FrontView {
 
 // Frames the box [lo, hi] in the rectangle so that it fills `fill` of the
 // tighter axis. Pass one box for several frames to keep them comparable.
-FrontView frame_front_view(const Vec3& lo, const Vec3& hi, int x0, int y0, int width, int height,
-                           double fill = 0.9);
+FrontView frame_front_view(const Vec3& lo, const Vec3& hi, int x0, int y0, int width, int height, double fill = 0.9);
 
 // Grows [lo, hi] to include n points stored as xyz floats.
 void extend_box(const float* xyz, size_t n, Vec3& lo, Vec3& hi);

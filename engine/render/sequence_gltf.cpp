@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstring>
 #include <limits>
-
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
@@ -31,10 +30,8 @@ class GltfBuffer {
     nlohmann::json view = {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes}};
     if (target) view["target"] = target;
     views_.push_back(view);
-    nlohmann::json acc = {{"bufferView", int(views_.size()) - 1},
-                          {"componentType", component_type},
-                          {"count", count},
-                          {"type", type}};
+    nlohmann::json acc = {
+        {"bufferView", int(views_.size()) - 1}, {"componentType", component_type}, {"count", count}, {"type", type}};
     if (with_min_max) {  // required on POSITION attributes and animation inputs
       std::vector<double> lo(components, std::numeric_limits<double>::infinity()), hi(components, -lo[0]);
       const float* f = static_cast<const float*>(data);
@@ -100,8 +97,7 @@ std::string base64_encode(const void* data, size_t size) {
   return out;
 }
 
-void write_sequence_gltf(const Rig& rig, const Sequence& seq, const std::string& path,
-                         const std::vector<int>& chosen) {
+void write_sequence_gltf(const Rig& rig, const Sequence& seq, const std::string& path, const std::vector<int>& chosen) {
   const std::vector<int> frames = checked_frames(rig, seq, chosen, path);
   const int S = rig.num_surface_vertices(), K = int(frames.size());
   const float* base = seq.frame_surface(frames[0]);
@@ -117,9 +113,8 @@ void write_sequence_gltf(const Rig& rig, const Sequence& seq, const std::string&
     for (int k = 0; k < 3; ++k) normals.push_back(float(n[k]));
   const int normal = buf.add(normals.data(), S, 3, kFloat, "VEC3", kArrayBuffer, false);
 
-  nlohmann::json primitive = {{"attributes", {{"POSITION", position}, {"NORMAL", normal}}},
-                              {"indices", indices},
-                              {"mode", kTriangles}};
+  nlohmann::json primitive = {
+      {"attributes", {{"POSITION", position}, {"NORMAL", normal}}}, {"indices", indices}, {"mode", kTriangles}};
   nlohmann::json mesh = {{"name", "face"}};
   nlohmann::json root;
   if (K > 1) {

@@ -43,14 +43,14 @@ void validate(const Rig& rig, const Sequence& seq, const std::vector<int>& frame
   const std::string who = "render: ";
   const int S = rig.num_surface_vertices();
   require(S > 0 && rig.surface_tris.rows() > 0, who + "rig '" + rig.name + "' has an empty face surface");
-  require(seq.header.num_surface == uint64_t(S),
-          who + "the sequence has " + std::to_string(seq.header.num_surface) + " surface vertices but rig '" +
-              rig.name + "' has " + std::to_string(S) + " (was it simulated with another rig?)");
+  require(seq.header.num_surface == uint64_t(S), who + "the sequence has " + std::to_string(seq.header.num_surface) +
+                                                     " surface vertices but rig '" + rig.name + "' has " +
+                                                     std::to_string(S) + " (was it simulated with another rig?)");
   const int F = seq.frames();
   require(F > 0, who + "the sequence has no frames");
-  require(seq.surface.size() == size_t(F) * S * 3,
-          who + "the sequence holds " + std::to_string(seq.surface.size()) + " surface floats, expected " +
-              std::to_string(size_t(F) * S * 3));
+  require(seq.surface.size() == size_t(F) * S * 3, who + "the sequence holds " + std::to_string(seq.surface.size()) +
+                                                       " surface floats, expected " +
+                                                       std::to_string(size_t(F) * S * 3));
   require(!frames.empty(), who + "no frames chosen");
   require(frames.size() <= size_t(kMaxPanels), who + std::to_string(frames.size()) + " frames chosen, at most " +
                                                    std::to_string(kMaxPanels) + " fit in one image");
@@ -131,10 +131,9 @@ Image render_sequence_image(const Rig& rig, const Sequence& seq, const std::vect
   const int fs = std::max(1, int(std::lround(tw / 240.0)));  // font pixel size
   const int label_h = text_height(fs) + 4 * fs;
   const double aspect = std::max(hi.y() - lo.y(), 1e-9) / std::max(hi.x() - lo.x(), 1e-9);
-  const int th = opt.tile_height > 0 ? opt.tile_height
-                                     : std::clamp(label_h + int(std::lround(tw * aspect)), 64, 4096);
-  const int cols = opt.columns > 0 ? std::min(opt.columns, n)
-                                   : std::clamp(int(std::lround(std::sqrt(double(n) * th / tw))), 1, n);
+  const int th = opt.tile_height > 0 ? opt.tile_height : std::clamp(label_h + int(std::lround(tw * aspect)), 64, 4096);
+  const int cols =
+      opt.columns > 0 ? std::min(opt.columns, n) : std::clamp(int(std::lround(std::sqrt(double(n) * th / tw))), 1, n);
   const int rows = (n + cols - 1) / cols;
   const int title_h = text_height(fs) + 6 * fs;
   const int legend_h = opt.heat ? 3 * text_height(fs) + 12 * fs : 0;
@@ -145,9 +144,9 @@ Image render_sequence_image(const Rig& rig, const Sequence& seq, const std::vect
 
   const double max_cm = max_surface_displacement_cm(seq);
   Image img(int(W), int(H), kBackground);
-  std::string title = "rig " + (rig.name.empty() ? std::string("(unnamed)") : rig.name) + "  " +
-                      seq.header.resolution + " res  " + std::to_string(seq.frames()) + " frames  " +
-                      format("%g fps", seq.header.fps) + "  units: cm";
+  std::string title = "rig " + (rig.name.empty() ? std::string("(unnamed)") : rig.name) + "  " + seq.header.resolution +
+                      " res  " + std::to_string(seq.frames()) + " frames  " + format("%g fps", seq.header.fps) +
+                      "  units: cm";
   int title_fs = fs;
   while (title_fs > 1 && text_width(title, title_fs) > W - 6 * fs) --title_fs;
   draw_text(img, 3 * fs, 3 * fs, title, kInk, title_fs);
