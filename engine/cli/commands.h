@@ -11,6 +11,8 @@ void register_rig(CLI::App& app);
 void register_devices(CLI::App& app);
 void register_render(CLI::App& app);
 void register_perf(CLI::App& app);
+void register_simulate(CLI::App& app);
+void register_bench(CLI::App& app);
 void add_action(CLI::App* sub, std::function<void()> action);
 void run_selected(CLI::App& app);
 

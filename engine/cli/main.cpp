@@ -14,7 +14,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "facesr 0.1.0");
   facesr::cli::register_rig(app);
   facesr::cli::register_perf(app);
+  facesr::cli::register_simulate(app);
   facesr::cli::register_render(app);
+  facesr::cli::register_bench(app);
   facesr::cli::register_devices(app);
   try {
     app.parse(argc, argv);

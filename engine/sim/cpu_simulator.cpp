@@ -43,8 +43,26 @@ class CpuSimulator final : public Simulator {
                                        std::to_string(x.size()));
     x_ = x;
   }
+  void forces(const Controls& c, std::vector<double>& f) override {
+    const FrameInputs in = prepare_frame(m_, c);
+    energy_gradient(m_, in, tet_activations(m_, in), x_, f);
+    mask(f);
+    for (double& v : f) v = -v;
+  }
   std::string device() const override { return "cpu-reference (Eigen, double)"; }
   const SimModel& model() const override { return m_; }
+
+  double time_stiffness_product(int reps) override {
+    Controls c;
+    c.weights.assign(m_.num_shapes, 0.0f);
+    const FrameInputs in = prepare_frame(m_, c);
+    ElementHessian H;
+    element_hessian(m_, in, tet_activations(m_, in), x_, true, H);
+    std::vector<double> p(x_.size(), 1.0), q;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < reps; ++i) hessian_product(m_, H, p, q);
+    return 1e3 * seconds_since(t0) / reps;
+  }
 
   StepStats step(const Controls& c) override {
     const auto t0 = std::chrono::steady_clock::now();
@@ -67,14 +85,24 @@ class CpuSimulator final : public Simulator {
       energy_gradient(m_, in, alpha, x_, g);
       mask(g);
       st.rel_residual = std::sqrt(dot(g, g)) / ref;
+      st.residuals.push_back(st.rel_residual);
       if (!std::isfinite(st.rel_residual)) throw Error("simulation diverged (non-finite forces)");
       if (st.rel_residual <= opt_.newton_tol) {
         st.converged = true;
         break;
       }
       if (it >= opt_.newton_max) break;
-      element_hessian(m_, in, alpha, x_, true, H);
-      st.cg_iters += pcg(H, g, d);
+      // Close to equilibrium the exact Hessian restores Newton's quadratic
+      // convergence that element-wise definiteness fixing gives up; if CG
+      // meets negative curvature with it, the step is redone with the fix.
+      bool exact = st.rel_residual < opt_.exact_hessian_below;
+      element_hessian(m_, in, alpha, x_, !exact, H);
+      bool negative = false;
+      st.cg_iters += pcg(H, g, d, negative);
+      if (exact && negative) {
+        element_hessian(m_, in, alpha, x_, true, H);
+        st.cg_iters += pcg(H, g, d, negative);
+      }
       ++st.newton_iters;
       const double e0 = total_energy(m_, in, alpha, x_);
       const double slope = dot(g, d);
@@ -83,7 +111,7 @@ class CpuSimulator final : public Simulator {
       for (int ls = 0; ls <= opt_.line_search_max; ++ls) {
         for (size_t i = 0; i < n; ++i) xt[i] = x_[i] + a * d[i];
         const double e = total_energy(m_, in, alpha, xt);
-        if (std::isfinite(e) && e <= e0 + 1e-4 * a * slope) {
+        if (std::isfinite(e) && e <= e0 + 1e-4 * a * slope + 1e-13 * std::abs(e0)) {  // roundoff slack
           accepted = true;
           break;
         }
@@ -106,7 +134,8 @@ class CpuSimulator final : public Simulator {
   }
 
   // Solves K d = −g on the free nodes with block-Jacobi PCG; returns iterations.
-  int pcg(const ElementHessian& H, const std::vector<double>& g, std::vector<double>& d) {
+  int pcg(const ElementHessian& H, const std::vector<double>& g, std::vector<double>& d, bool& negative) {
+    negative = false;
     const size_t n = g.size();
     std::vector<Eigen::Matrix3d> Minv(m_.num_nodes);
     for (int v = 0; v < m_.num_nodes; ++v) {
@@ -133,7 +162,10 @@ class CpuSimulator final : public Simulator {
       hessian_product(m_, H, p, q);
       mask(q);
       const double pq = dot(p, q);
-      if (!(pq > 0)) break;
+      if (!(pq > 0)) {
+        negative = true;
+        break;
+      }
       const double a = rz / pq;
       for (size_t i = 0; i < n; ++i) d[i] += a * p[i], r[i] -= a * q[i];
       ++it;

@@ -17,7 +17,7 @@ struct MaterialParams {
   double mu01 = 0.5;         // kPa
   double kappa = 200;        // kPa
   double j_min = 0.25;       // deviatoric J floor
-  double sigma_max = 10;     // kPa, peak active fibre stress
+  double sigma_max = 40;     // kPa, peak active fibre stress
   double p1 = 0.05, p2 = 6.6;  // passive fibre curve (Blemker 2005)
   double stretch_lin = 1.4;  // passive curve turns linear beyond this stretch
   double track_stiffness = 5;  // kPa/cm: spring force per cm offset per cm² of skin

@@ -17,6 +17,9 @@ struct SolverOptions {
   double cg_tol = 1e-2;      // relative residual of each linear solve
   int cg_max = 400;
   int line_search_max = 16;  // halvings
+  // Below this relative residual Newton uses the exact (unfixed) Hessian,
+  // falling back to the definiteness-fixed one on negative curvature.
+  double exact_hessian_below = 1e-2;
 };
 
 struct StepStats {
@@ -31,6 +34,7 @@ struct StepStats {
   bool converged = false;
   int inverted_tets = 0;      // tets with det F ≤ 0 after the step
   double ms = 0;              // wall time of the step
+  std::vector<double> residuals;  // rel_residual before each Newton iteration and at the end
 };
 
 class Simulator {
@@ -43,7 +47,13 @@ class Simulator {
   virtual void nodes(std::vector<double>& x) const = 0;
   virtual void surface(std::vector<double>& s) const = 0;
   virtual void set_nodes(const std::vector<double>& x) = 0;  // warm start from given positions
+  // Net force −∇E on each node at the current positions under these controls
+  // (node × 3; bone nodes 0), without solving. For parity tests and tools.
+  virtual void forces(const Controls& c, std::vector<double>& f) = 0;
   virtual std::string device() const = 0;
+  // Mean wall time (ms) of one matrix-free stiffness product K·p at the
+  // current state, over `repetitions` products (for benchmarks).
+  virtual double time_stiffness_product(int repetitions) = 0;
   virtual const SimModel& model() const = 0;
 };
 

@@ -1,0 +1,443 @@
+// Quasistatic Newton/PCG solver kernels for the LR (or HR) tet mesh. Compiled
+// after fsr_material.h, which supplies fsr_real and the material functions.
+//
+// Scatter/gather: every tet corner and every embedded surface-vertex corner
+// owns one "slot" (tet t corner k: 4t+k; surface vertex v corner k:
+// 4T+4v+k). Element kernels write their slots, then `gather_nodes` sums each
+// node's slots through a CSR incidence list: no atomics, deterministic sums.
+//
+// Frame buffer layout (fsr_real): jaw R (9, row-major), jaw t (3), then per
+// sphere collider centre (3), radius, stiffness.
+
+#define SLOT3(buf, s) ((buf) + 3 * (size_t)(s))
+
+__kernel void frame_tet_alpha(const uint T, __global const int* muscle, __global const fsr_real* act,
+                              __global fsr_real* alpha) {
+  const uint t = get_global_id(0);
+  if (t >= T) return;
+  const int m = muscle[t];
+  alpha[t] = m >= 0 ? act[m] : 0;
+}
+
+// Track targets: rest embedding plus the linear blendshape offsets.
+__kernel void frame_targets(const uint S, const uint B, __global const fsr_real* surf_rest,
+                            __global const float* deltas, __global const float* weights,
+                            __global fsr_real* target) {
+  const uint i = get_global_id(0);
+  if (i >= 3 * S) return;
+  fsr_real v = surf_rest[i];
+  for (uint b = 0; b < B; ++b) {
+    const float w = weights[b];
+    if (w != 0.0f) v += (fsr_real)w * (fsr_real)deltas[(size_t)b * 3 * S + i];
+  }
+  target[i] = v;
+}
+
+// Bone nodes to their prescribed positions: cranium at rest, jaw moved rigidly.
+__kernel void apply_dirichlet(const uint N, __global const fsr_real* rest, __global const uchar* bone,
+                              __global const fsr_real* frame, __global fsr_real* x) {
+  const uint v = get_global_id(0);
+  if (v >= N || bone[v] == 0) return;
+  const fsr_real X0 = rest[3 * v], X1 = rest[3 * v + 1], X2 = rest[3 * v + 2];
+  if (bone[v] == 1) {
+    x[3 * v] = X0;
+    x[3 * v + 1] = X1;
+    x[3 * v + 2] = X2;
+  } else {
+    for (int i = 0; i < 3; ++i)
+      x[3 * v + i] = frame[3 * i] * X0 + frame[3 * i + 1] * X1 + frame[3 * i + 2] * X2 + frame[9 + i];
+  }
+}
+
+void load_tet(uint t, __global const int* tets, __global const fsr_real* x, __global const fsr_real* Dminv_g,
+              __global const fsr_real* fibre_g, fsr_real* xc, fsr_real* Dminv, fsr_real* a) {
+  for (int k = 0; k < 4; ++k) {
+    const int n = tets[4 * t + k];
+    for (int c = 0; c < 3; ++c) xc[3 * k + c] = x[3 * n + c];
+  }
+  for (int k = 0; k < 9; ++k) Dminv[k] = Dminv_g[9 * (size_t)t + k];
+  for (int k = 0; k < 3; ++k) a[k] = fibre_g[3 * t + k];
+}
+
+fsr_material material_of(__global const fsr_real* mp) {
+  fsr_material m;
+  m.mu10 = mp[0];
+  m.mu01 = mp[1];
+  m.kappa = mp[2];
+  m.j_min = mp[3];
+  m.sigma_max = mp[4];
+  m.p1 = mp[5];
+  m.p2 = mp[6];
+  m.stretch_lin = mp[7];
+  return m;
+}
+
+__kernel void tet_energy(const uint T, __global const fsr_real* mp, __global const int* tets,
+                         __global const fsr_real* x, __global const fsr_real* Dminv_g, __global const fsr_real* vol,
+                         __global const fsr_real* fibre_g, __global const fsr_real* phi,
+                         __global const fsr_real* alpha, __global fsr_real* e) {
+  const uint t = get_global_id(0);
+  if (t >= T) return;
+  const fsr_material m = material_of(mp);
+  fsr_real xc[12], Dminv[9], a[3], F[9];
+  load_tet(t, tets, x, Dminv_g, fibre_g, xc, Dminv, a);
+  fsr_tet_F(xc, Dminv, F);
+  e[t] = vol[t] * fsr_energy_density(&m, F, a, phi[t], alpha[t]);
+}
+
+__kernel void tet_gradient(const uint T, __global const fsr_real* mp, __global const int* tets,
+                           __global const fsr_real* x, __global const fsr_real* Dminv_g, __global const fsr_real* vol,
+                           __global const fsr_real* fibre_g, __global const fsr_real* phi,
+                           __global const fsr_real* alpha, __global fsr_real* slots) {
+  const uint t = get_global_id(0);
+  if (t >= T) return;
+  const fsr_material m = material_of(mp);
+  fsr_real xc[12], Dminv[9], a[3], F[9], P[9], g[12];
+  load_tet(t, tets, x, Dminv_g, fibre_g, xc, Dminv, a);
+  fsr_tet_F(xc, Dminv, F);
+  fsr_stress(&m, F, a, phi[t], alpha[t], P);
+  fsr_tet_scatter(P, Dminv, vol[t], g);
+  for (int k = 0; k < 12; ++k) slots[12 * (size_t)t + k] = g[k];
+}
+
+// dP/dF (definiteness-fixed) per tet, and its four diagonal 3x3 blocks.
+__kernel void tet_hessian(const uint T, __global const fsr_real* mp, __global const int* tets,
+                          __global const fsr_real* x, __global const fsr_real* Dminv_g, __global const fsr_real* vol,
+                          __global const fsr_real* fibre_g, __global const fsr_real* phi,
+                          __global const fsr_real* alpha, const int fix, __global fsr_real* C_g,
+                          __global fsr_real* dslots) {
+  const uint t = get_global_id(0);
+  if (t >= T) return;
+  const fsr_material m = material_of(mp);
+  fsr_real xc[12], Dminv[9], a[3], F[9], C[81], D[36];
+  load_tet(t, tets, x, Dminv_g, fibre_g, xc, Dminv, a);
+  fsr_tet_F(xc, Dminv, F);
+  fsr_stress_derivative(&m, F, a, phi[t], alpha[t], fix, C);
+  fsr_tet_diag_blocks(C, Dminv, vol[t], D);
+  for (int k = 0; k < 81; ++k) C_g[81 * (size_t)t + k] = C[k];
+  for (int k = 0; k < 36; ++k) dslots[36 * (size_t)t + k] = D[k];
+}
+
+// External terms at one embedded surface point: track spring, point spring,
+// sphere penalties. mode 0: energy → e[v]; 1: gradient → slots; 2: Hessian
+// with the definiteness fix (the spheres' negative curvature term dropped),
+// 3: exact Hessian → surfH and dslots.
+void surface_point(uint v, __global const int* sn, __global const fsr_real* sw, __global const fsr_real* x,
+                   fsr_real* p, fsr_real* w) {
+  p[0] = p[1] = p[2] = 0;
+  for (int k = 0; k < 4; ++k) {
+    const int n = sn[4 * v + k];
+    w[k] = sw[4 * v + k];
+    for (int c = 0; c < 3; ++c) p[c] += w[k] * x[3 * n + c];
+  }
+}
+
+__kernel void surface_terms(const uint S, const uint T, const int mode, __global const int* sn,
+                            __global const fsr_real* sw, __global const fsr_real* x, __global const fsr_real* track_k,
+                            __global const fsr_real* target, __global const fsr_real* spring_k,
+                            __global const fsr_real* spring_target, __global const fsr_real* frame,
+                            const uint nspheres, __global fsr_real* e, __global fsr_real* slots,
+                            __global fsr_real* surfH, __global fsr_real* dslots) {
+  const uint v = get_global_id(0);
+  if (v >= S) return;
+  fsr_real p[3], w[4], g[3] = {0, 0, 0}, H[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, en = 0;
+  surface_point(v, sn, sw, x, p, w);
+  const fsr_real kt = track_k[v], ks = spring_k[v];
+  if (kt > 0) {
+    fsr_real d2 = 0;
+    for (int c = 0; c < 3; ++c) {
+      const fsr_real d = p[c] - target[3 * v + c];
+      g[c] += kt * d;
+      d2 += d * d;
+      H[4 * c] += kt;
+    }
+    en += (fsr_real)0.5 * kt * d2;
+  }
+  if (ks > 0) {
+    fsr_real d2 = 0;
+    for (int c = 0; c < 3; ++c) {
+      const fsr_real d = p[c] - spring_target[3 * v + c];
+      g[c] += ks * d;
+      d2 += d * d;
+      H[4 * c] += ks;
+    }
+    en += (fsr_real)0.5 * ks * d2;
+  }
+  for (uint s = 0; s < nspheres; ++s) {
+    __global const fsr_real* sp = frame + 12 + 5 * s;
+    const fsr_real r[3] = {p[0] - sp[0], p[1] - sp[1], p[2] - sp[2]};
+    const fsr_real d = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    if (d >= sp[3] || d < (fsr_real)1e-12) continue;
+    const fsr_real depth = sp[3] - d, k = sp[4];
+    en += (fsr_real)0.5 * k * depth * depth;
+    for (int c = 0; c < 3; ++c) {
+      g[c] -= k * depth * r[c] / d;
+      for (int q = 0; q < 3; ++q) {
+        const fsr_real nn = r[c] * r[q] / (d * d);
+        H[3 * c + q] += k * nn;
+        if (mode == 3) H[3 * c + q] -= k * depth / d * ((c == q ? 1 : 0) - nn);
+      }
+    }
+  }
+  if (mode == 0) {
+    e[v] = en;
+  } else if (mode == 1) {
+    __global fsr_real* out = slots + 12 * ((size_t)T + v);
+    for (int k = 0; k < 4; ++k)
+      for (int c = 0; c < 3; ++c) out[3 * k + c] = w[k] * g[c];
+  } else {
+    for (int k = 0; k < 9; ++k) surfH[9 * (size_t)v + k] = H[k];
+    __global fsr_real* out = dslots + 36 * ((size_t)T + v);
+    for (int k = 0; k < 4; ++k)
+      for (int q = 0; q < 9; ++q) out[9 * k + q] = w[k] * w[k] * H[q];
+  }
+}
+
+// out[node] = Σ slots of the node; bone nodes get 0 (they are not unknowns).
+__kernel void gather_nodes(const uint N, __global const int* inc_offset, __global const int* inc_slot,
+                           __global const uchar* bone, __global const fsr_real* slots, __global fsr_real* out) {
+  const uint v = get_global_id(0);
+  if (v >= N) return;
+  fsr_real s0 = 0, s1 = 0, s2 = 0;
+  if (bone[v] == 0) {
+    for (int i = inc_offset[v]; i < inc_offset[v + 1]; ++i) {
+      __global const fsr_real* s = SLOT3(slots, inc_slot[i]);
+      s0 += s[0];
+      s1 += s[1];
+      s2 += s[2];
+    }
+  }
+  out[3 * v] = s0;
+  out[3 * v + 1] = s1;
+  out[3 * v + 2] = s2;
+}
+
+// Block-Jacobi preconditioner: inverse of each free node's 3x3 diagonal block.
+__kernel void gather_diag_inverse(const uint N, __global const int* inc_offset, __global const int* inc_slot,
+                                  __global const uchar* bone, __global const fsr_real* dslots,
+                                  __global fsr_real* Minv) {
+  const uint v = get_global_id(0);
+  if (v >= N) return;
+  fsr_real D[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  for (int i = inc_offset[v]; i < inc_offset[v + 1]; ++i)
+    for (int k = 0; k < 9; ++k) D[k] += dslots[9 * (size_t)inc_slot[i] + k];
+  const fsr_real det = fsr_det3(D);
+  fsr_real inv[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  if (bone[v] == 0 && fabs(det) > (fsr_real)1e-30) {
+    inv[0] = (D[4] * D[8] - D[5] * D[7]) / det;
+    inv[1] = (D[2] * D[7] - D[1] * D[8]) / det;
+    inv[2] = (D[1] * D[5] - D[2] * D[4]) / det;
+    inv[3] = (D[5] * D[6] - D[3] * D[8]) / det;
+    inv[4] = (D[0] * D[8] - D[2] * D[6]) / det;
+    inv[5] = (D[2] * D[3] - D[0] * D[5]) / det;
+    inv[6] = (D[3] * D[7] - D[4] * D[6]) / det;
+    inv[7] = (D[1] * D[6] - D[0] * D[7]) / det;
+    inv[8] = (D[0] * D[4] - D[1] * D[3]) / det;
+  }
+  for (int k = 0; k < 9; ++k) Minv[9 * (size_t)v + k] = inv[k];
+}
+
+// ---- CG vector operations (n = 3 × nodes) ----
+
+__kernel void precondition(const uint N, __global const fsr_real* Minv, __global const fsr_real* r,
+                           __global fsr_real* z) {
+  const uint v = get_global_id(0);
+  if (v >= N) return;
+  __global const fsr_real* M = Minv + 9 * (size_t)v;
+  const fsr_real r0 = r[3 * v], r1 = r[3 * v + 1], r2 = r[3 * v + 2];
+  for (int i = 0; i < 3; ++i) z[3 * v + i] = M[3 * i] * r0 + M[3 * i + 1] * r1 + M[3 * i + 2] * r2;
+}
+
+// Work-group partial sums of a·b and c·d (the second pair may alias the first).
+// Local size must be a power of two; the host adds the partials.
+__kernel void dot2_partial(const uint n, __global const fsr_real* a, __global const fsr_real* b,
+                           __global const fsr_real* c, __global const fsr_real* d, __global fsr_real* partial,
+                           __local fsr_real* s1, __local fsr_real* s2) {
+  const uint lid = get_local_id(0);
+  fsr_real acc1 = 0, acc2 = 0;
+  for (uint i = get_global_id(0); i < n; i += get_global_size(0)) {
+    acc1 += a[i] * b[i];
+    acc2 += c[i] * d[i];
+  }
+  s1[lid] = acc1;
+  s2[lid] = acc2;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
+    if (lid < stride) {
+      s1[lid] += s1[lid + stride];
+      s2[lid] += s2[lid + stride];
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  if (lid == 0) {
+    partial[2 * get_group_id(0)] = s1[0];
+    partial[2 * get_group_id(0) + 1] = s2[0];
+  }
+}
+
+__kernel void sum_partial(const uint n, __global const fsr_real* a, __global fsr_real* partial,
+                          __local fsr_real* s1) {
+  const uint lid = get_local_id(0);
+  fsr_real acc = 0;
+  for (uint i = get_global_id(0); i < n; i += get_global_size(0)) acc += a[i];
+  s1[lid] = acc;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
+    if (lid < stride) s1[lid] += s1[lid + stride];
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  if (lid == 0) partial[get_group_id(0)] = s1[0];
+}
+
+// p = z + β p
+__kernel void cg_direction(const uint n, const fsr_real beta, __global const fsr_real* z, __global fsr_real* p) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  p[i] = z[i] + beta * p[i];
+}
+
+// y = a + s b
+__kernel void axpy_to(const uint n, const fsr_real s, __global const fsr_real* a, __global const fsr_real* b,
+                      __global fsr_real* y) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  y[i] = a[i] + s * b[i];
+}
+
+__kernel void tet_inverted(const uint T, __global const int* tets, __global const fsr_real* x,
+                           __global const fsr_real* Dminv_g, __global fsr_real* flag) {
+  const uint t = get_global_id(0);
+  if (t >= T) return;
+  fsr_real xc[12], Dminv[9], F[9];
+  for (int k = 0; k < 4; ++k) {
+    const int n = tets[4 * t + k];
+    for (int c = 0; c < 3; ++c) xc[3 * k + c] = x[3 * n + c];
+  }
+  for (int k = 0; k < 9; ++k) Dminv[k] = Dminv_g[9 * (size_t)t + k];
+  fsr_tet_F(xc, Dminv, F);
+  flag[t] = fsr_det3(F) <= 0 ? 1 : 0;
+}
+
+__kernel void embed_surface(const uint S, __global const int* sn, __global const fsr_real* sw,
+                            __global const fsr_real* x, __global float* out) {
+  const uint v = get_global_id(0);
+  if (v >= S) return;
+  fsr_real p[3], w[4];
+  surface_point(v, sn, sw, x, p, w);
+  for (int c = 0; c < 3; ++c) out[3 * v + c] = (float)p[c];
+}
+
+// y = s a
+__kernel void scale_to(const uint n, const fsr_real s, __global const fsr_real* a, __global fsr_real* y) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  y[i] = s * a[i];
+}
+
+// ---- Fused CG kernels: one launch where the unfused sequence needed three,
+// because on CPU devices launch latency rivals the arithmetic. Work-item per
+// node, power-of-two local size, one partial sum per work-group.
+
+// Tet and surface stiffness products in one launch: ids [0, T) are tets,
+// [T, T + S) surface vertices.
+__kernel void product_all(const uint T, const uint S, __global const int* tets, __global const fsr_real* p,
+                          __global const fsr_real* Dminv_g, __global const fsr_real* vol,
+                          __global const fsr_real* C_g, __global const int* sn, __global const fsr_real* sw,
+                          __global const fsr_real* surfH, __global fsr_real* slots) {
+  const uint id = get_global_id(0);
+  if (id < T) {
+    const uint t = id;
+    fsr_real pc[12], Dminv[9], dF[9], dP[9], y[12];
+    for (int k = 0; k < 4; ++k) {
+      const int n = tets[4 * t + k];
+      for (int c = 0; c < 3; ++c) pc[3 * k + c] = p[3 * n + c];
+    }
+    for (int k = 0; k < 9; ++k) Dminv[k] = Dminv_g[9 * (size_t)t + k];
+    fsr_tet_F(pc, Dminv, dF);
+    __global const fsr_real* C = C_g + 81 * (size_t)t;
+    for (int r = 0; r < 9; ++r) {
+      fsr_real s = 0;
+      for (int c = 0; c < 9; ++c) s += C[9 * r + c] * dF[c];
+      dP[r] = s;
+    }
+    fsr_tet_scatter(dP, Dminv, vol[t], y);
+    for (int k = 0; k < 12; ++k) slots[12 * (size_t)t + k] = y[k];
+  } else if (id < T + S) {
+    const uint v = id - T;
+    fsr_real q[3], w[4], hq[3];
+    surface_point(v, sn, sw, p, q, w);
+    __global const fsr_real* H = surfH + 9 * (size_t)v;
+    for (int i = 0; i < 3; ++i) hq[i] = H[3 * i] * q[0] + H[3 * i + 1] * q[1] + H[3 * i + 2] * q[2];
+    __global fsr_real* out = slots + 12 * ((size_t)T + v);
+    for (int k = 0; k < 4; ++k)
+      for (int c = 0; c < 3; ++c) out[3 * k + c] = w[k] * hq[c];
+  }
+}
+
+// q = gathered slots (bone nodes 0), and partial sums of p·q.
+__kernel void gather_dot(const uint N, __global const int* inc_offset, __global const int* inc_slot,
+                         __global const uchar* bone, __global const fsr_real* slots, __global fsr_real* q,
+                         __global const fsr_real* p, __global fsr_real* partial, __local fsr_real* s1) {
+  const uint v = get_global_id(0), lid = get_local_id(0);
+  fsr_real acc = 0;
+  if (v < N) {
+    fsr_real s0 = 0, sa = 0, sb = 0;
+    if (bone[v] == 0) {
+      for (int i = inc_offset[v]; i < inc_offset[v + 1]; ++i) {
+        __global const fsr_real* s = SLOT3(slots, inc_slot[i]);
+        s0 += s[0];
+        sa += s[1];
+        sb += s[2];
+      }
+    }
+    q[3 * v] = s0;
+    q[3 * v + 1] = sa;
+    q[3 * v + 2] = sb;
+    acc = p[3 * v] * s0 + p[3 * v + 1] * sa + p[3 * v + 2] * sb;
+  }
+  s1[lid] = acc;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
+    if (lid < stride) s1[lid] += s1[lid + stride];
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  if (lid == 0) partial[get_group_id(0)] = s1[0];
+}
+
+// d += α p, r −= α q, z = M⁻¹ r, and partial sums of r·r and r·z.
+__kernel void cg_update(const uint N, const fsr_real alpha, __global const fsr_real* p, __global const fsr_real* q,
+                        __global const fsr_real* Minv, __global fsr_real* d, __global fsr_real* r,
+                        __global fsr_real* z, __global fsr_real* partial, __local fsr_real* s1,
+                        __local fsr_real* s2) {
+  const uint v = get_global_id(0), lid = get_local_id(0);
+  fsr_real rr = 0, rz = 0;
+  if (v < N) {
+    fsr_real rv[3];
+    for (int c = 0; c < 3; ++c) {
+      d[3 * v + c] += alpha * p[3 * v + c];
+      rv[c] = r[3 * v + c] - alpha * q[3 * v + c];
+      r[3 * v + c] = rv[c];
+    }
+    __global const fsr_real* M = Minv + 9 * (size_t)v;
+    for (int i = 0; i < 3; ++i) {
+      const fsr_real zi = M[3 * i] * rv[0] + M[3 * i + 1] * rv[1] + M[3 * i + 2] * rv[2];
+      z[3 * v + i] = zi;
+      rr += rv[i] * rv[i];
+      rz += rv[i] * zi;
+    }
+  }
+  s1[lid] = rr;
+  s2[lid] = rz;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
+    if (lid < stride) {
+      s1[lid] += s1[lid + stride];
+      s2[lid] += s2[lid + stride];
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  if (lid == 0) {
+    partial[2 * get_group_id(0)] = s1[0];
+    partial[2 * get_group_id(0) + 1] = s2[0];
+  }
+}

@@ -1,0 +1,55 @@
+#include "bench/bench_report.h"
+
+#include <ctime>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace facesr {
+
+std::string machine_description() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line, model = "unknown CPU";
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " cores";
+}
+
+std::string today_iso() {
+  const std::time_t t = std::time(nullptr);
+  char buf[16];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d", std::localtime(&t));
+  return buf;
+}
+
+void update_markdown_section(const std::string& path, const std::string& tag, const std::string& body) {
+  std::string text;
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (in) {
+      std::stringstream ss;
+      ss << in.rdbuf();
+      text = ss.str();
+    }
+  }
+  const std::string start = "<!-- " + tag + ":start -->", end = "<!-- " + tag + ":end -->";
+  const std::string block = start + "\n" + body + (body.empty() || body.back() == '\n' ? "" : "\n") + end;
+  const size_t a = text.find(start), b = text.find(end);
+  if (a != std::string::npos && b != std::string::npos && b > a) {
+    text = text.substr(0, a) + block + text.substr(b + end.size());
+  } else {
+    require(a == std::string::npos && b == std::string::npos,
+            path + ": unbalanced '" + tag + "' section markers; fix the file by hand");
+    if (!text.empty() && text.back() != '\n') text += "\n";
+    text += "\n" + block + "\n";
+  }
+  write_file_atomically(path, [&](std::ostream& os) { os << text; });
+}
+
+}  // namespace facesr

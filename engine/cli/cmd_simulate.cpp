@@ -1,0 +1,246 @@
+// facesr simulate: runs a performance through the LR or HR simulator and
+// writes the per-frame node positions and embedded face surface (.fsq).
+// facesr bench sim: timing of the LR step (see engine/bench/sim_bench.h).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/bench_report.h"
+#include "bench/sim_bench.h"
+#include "cli/commands.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "perf/performance.h"
+#include "perf/sequence_io.h"
+#include "rig/rig_io.h"
+#include "sim/cl_simulator.h"
+#include "sim/simulator.h"
+
+namespace facesr::cli {
+namespace {
+
+struct SolverArgs {
+  std::string preset = "accurate";
+  double newton_tol = -1, cg_tol = -1;
+  int newton_max = -1, cg_max = -1;
+  std::string device;
+  bool cpu = false;
+  bool single = false;
+
+  void add(CLI::App* sub) {
+    sub->add_option("--solver", preset, "accurate (default) | realtime (capped iterations, for games)");
+    sub->add_option("--newton-tol", newton_tol, "Newton relative residual tolerance");
+    sub->add_option("--newton-max", newton_max, "Newton iteration cap per frame");
+    sub->add_option("--cg-tol", cg_tol, "CG relative residual tolerance per Newton step");
+    sub->add_option("--cg-max", cg_max, "CG iteration cap per Newton step");
+    sub->add_option("--device", device, "OpenCL device: index, name, cpu or gpu (default: first CPU device)");
+    sub->add_flag("--cpu", cpu, "Use the CPU reference simulator instead of OpenCL");
+    sub->add_flag("--single", single, "Single precision on the OpenCL device");
+  }
+  SolverOptions options() const {
+    SolverOptions o;
+    if (preset == "realtime") {
+      o.newton_tol = 1e-2;
+      o.newton_max = 3;
+      o.cg_tol = 0.05;
+      o.cg_max = 60;
+    } else {
+      require(preset == "accurate", "unknown --solver '" + preset + "' (expected accurate or realtime)");
+    }
+    if (newton_tol >= 0) o.newton_tol = newton_tol;
+    if (cg_tol >= 0) o.cg_tol = cg_tol;
+    if (newton_max >= 0) o.newton_max = newton_max;
+    if (cg_max >= 0) o.cg_max = cg_max;
+    require(o.newton_tol > 0 && o.cg_tol > 0 && o.newton_max > 0 && o.cg_max > 0,
+            "solver tolerances and iteration caps must be positive");
+    return o;
+  }
+  ClSimulatorOptions cl() const {
+    ClSimulatorOptions c;
+    c.device = compute::DeviceSelector::parse(device);
+    c.single_precision = single;
+    return c;
+  }
+  std::unique_ptr<Simulator> make(const SimModel& m) const {
+    return cpu ? make_cpu_simulator(m, options()) : make_cl_simulator(m, options(), cl());
+  }
+};
+
+Performance load_perf(const std::string& path, const std::string& builtin, const Rig& rig) {
+  require(path.empty() != builtin.empty(), "give exactly one of --performance FILE or --builtin NAME");
+  return path.empty() ? builtin_performance(builtin, rig.blendshape_names)
+                      : load_performance_json(path, rig.blendshape_names);
+}
+
+void require_parent(const std::string& out) {
+  const auto parent = std::filesystem::path(out).parent_path();
+  require(parent.empty() || std::filesystem::is_directory(parent),
+          "output folder '" + parent.string() + "' does not exist");
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, size_t(std::ceil(q * double(v.size())) - 1))];
+}
+
+}  // namespace
+
+void register_simulate(CLI::App& app) {
+  struct Args {
+    std::string rig, res = "low", performance, builtin, out;
+    int max_frames = 0;
+    bool json = false, quiet = false;
+    SolverArgs solver;
+  };
+  static Args a;
+  auto* sub = app.add_subcommand("simulate", "Run a performance through the quasistatic muscle simulator");
+  sub->add_option("--rig", a.rig, "Rig file (from `facesr rig build`)")->required();
+  sub->add_option("--res", a.res, "low (LR lattice, real-time) | high (HR conforming mesh)");
+  sub->add_option("--performance", a.performance, "Performance JSON (ARKit weight keyframes)");
+  sub->add_option("--builtin", a.builtin, "Built-in performance: " + [] {
+    std::string s;
+    for (const auto& n : builtin_performance_names()) s += (s.empty() ? "" : ", ") + n;
+    return s;
+  }());
+  sub->add_option("--out,-o", a.out, "Output sequence (.fsq): node positions and face surface per frame, cm")
+      ->required();
+  sub->add_option("--frames", a.max_frames, "Simulate only the first N frames");
+  sub->add_flag("--json", a.json,
+                "Print a JSON summary: frames, mean_step_ms, p95_step_ms, mean_newton_iters, mean_cg_iters, "
+                "max_rel_residual, nan_frames, inverted_tets_max, device");
+  sub->add_flag("--quiet,-q", a.quiet, "No progress output");
+  a.solver.add(sub);
+  add_action(sub, [] {
+    require_parent(a.out);
+    const Rig rig = load_rig(a.rig);
+    const Performance perf = load_perf(a.performance, a.builtin, rig);
+    const Resolution res = parse_resolution(a.res);
+    const SimModel model = make_sim_model(rig, res);
+    auto sim = a.solver.make(model);
+    int frames = perf.frames();
+    if (a.max_frames > 0) frames = std::min(frames, a.max_frames);
+    require(frames > 0, "the performance has no frames");
+
+    SequenceHeader h;
+    h.resolution = resolution_name(res);
+    h.rig_checksum = rig_checksum(rig);
+    h.fps = perf.fps;
+    h.num_nodes = uint64_t(model.num_nodes);
+    h.num_surface = uint64_t(model.num_surface);
+    SequenceWriter writer(a.out, h);
+    Progress progress("simulate " + std::string(resolution_name(res)) + " (" + sim->device() + ")", frames,
+                      !a.quiet);
+    std::vector<double> ms, x, s;
+    std::vector<float> xf, sf;
+    double newton = 0, cg = 0, max_rel = 0;
+    int inverted_max = 0, nan_frames = 0, unconverged = 0;
+    Controls c;
+    for (int f = 0; f < frames; ++f) {
+      c.weights.assign(perf.frame(f), perf.frame(f) + perf.names.size());
+      const StepStats st = sim->step(c);
+      sim->nodes(x);
+      sim->surface(s);
+      bool finite = std::isfinite(st.rel_residual);
+      for (double v : x) finite = finite && std::isfinite(v);
+      if (!finite) {
+        ++nan_frames;
+        // A NaN frame is never written: the writer's temp file is discarded.
+        throw Error("frame " + std::to_string(f) + ": the simulation produced non-finite positions; nothing written");
+      }
+      xf.assign(x.begin(), x.end());
+      sf.assign(s.begin(), s.end());
+      writer.add_frame(perf.time(f), xf.data(), sf.data());
+      ms.push_back(st.ms);
+      newton += st.newton_iters;
+      cg += st.cg_iters;
+      max_rel = std::max(max_rel, st.rel_residual);
+      inverted_max = std::max(inverted_max, st.inverted_tets);
+      unconverged += !st.converged;
+      char detail[160];
+      std::snprintf(detail, sizeof detail, "%.1f ms, %d Newton, %d CG, residual %.1e", st.ms, st.newton_iters,
+                    st.cg_iters, st.rel_residual);
+      progress.update(f + 1, detail);
+    }
+    writer.commit();
+    progress.finish();
+    double mean = 0;
+    for (double v : ms) mean += v / frames;
+    nlohmann::json j{{"frames", frames},
+                     {"mean_step_ms", mean},
+                     {"p95_step_ms", percentile(ms, 0.95)},
+                     {"mean_newton_iters", newton / frames},
+                     {"mean_cg_iters", cg / frames},
+                     {"max_rel_residual", max_rel},
+                     {"unconverged_frames", unconverged},
+                     {"nan_frames", nan_frames},
+                     {"inverted_tets_max", inverted_max},
+                     {"device", sim->device()},
+                     {"res", resolution_name(res)},
+                     {"tets", model.num_tets},
+                     {"nodes", model.num_nodes},
+                     {"surface_vertices", model.num_surface},
+                     {"out", a.out},
+                     {"units", "cm"}};
+    if (a.json) {
+      std::printf("%s\n", j.dump(2).c_str());
+    } else {
+      std::printf("wrote %s: %d frames, %.1f ms/frame (p95 %.1f), %.1f Newton and %.0f CG iterations per frame, "
+                  "max residual %.1e, positions in cm\n",
+                  a.out.c_str(), frames, mean, percentile(ms, 0.95), newton / frames, cg / frames, max_rel);
+    }
+  });
+}
+
+void register_bench(CLI::App& app) {
+  auto* bench = app.add_subcommand("bench", "Benchmarks (results can be written into BENCHMARKS.md)");
+  bench->require_subcommand(1);
+  struct Args {
+    std::string rig, res = "low", builtin = "talk", markdown;
+    int frames = 60;
+    bool json = false, quiet = false, no_sweep = false, no_cpu = false;
+    SolverArgs solver;
+  };
+  static Args a;
+  auto* sub = bench->add_subcommand("sim", "Steady-state ms per LR frame, stiffness-product cost, lattice-size sweep");
+  sub->add_option("--rig", a.rig, "Rig file")->required();
+  sub->add_option("--res", a.res, "low | high");
+  sub->add_option("--builtin", a.builtin, "Built-in performance to drive the rig (default talk)");
+  sub->add_option("--frames", a.frames, "Timed frames per configuration (default 60)");
+  sub->add_option("--markdown", a.markdown, "Write the results into this Markdown file (e.g. BENCHMARKS.md)");
+  sub->add_flag("--no-sweep", a.no_sweep, "Skip the synthetic lattice-size sweep");
+  sub->add_flag("--no-cpu", a.no_cpu, "Skip the CPU reference");
+  sub->add_flag("--json", a.json, "Print the results as JSON");
+  sub->add_flag("--quiet,-q", a.quiet, "No progress output");
+  a.solver.add(sub);
+  add_action(sub, [] {
+    require(a.frames > 0, "--frames must be positive");
+    const Rig rig = load_rig(a.rig);
+    const SimModel model = make_sim_model(rig, parse_resolution(a.res));
+    const Performance perf = builtin_performance(a.builtin, rig.blendshape_names);
+    std::vector<std::vector<float>> frames;
+    for (int f = 0; f < perf.frames(); ++f) frames.emplace_back(perf.frame(f), perf.frame(f) + perf.names.size());
+    SimBenchOptions o;
+    o.frames = a.frames;
+    o.sweep = !a.no_sweep;
+    o.cpu_reference = !a.no_cpu;
+    o.solver = a.solver.options();
+    o.cl = a.solver.cl();
+    o.progress = !a.quiet;
+    nlohmann::json r = bench_sim(model, frames, o);
+    r["rig"] = rig.name;
+    r["solver_preset"] = a.solver.preset;
+    if (!a.markdown.empty())
+      update_markdown_section(a.markdown, "bench-sim-" + a.solver.preset + "-" + rig.name,
+                              sim_bench_markdown(r));
+    if (a.json)
+      std::printf("%s\n", r.dump(2).c_str());
+    else
+      std::printf("%s", sim_bench_markdown(r).c_str());
+  });
+}
+
+}  // namespace facesr::cli

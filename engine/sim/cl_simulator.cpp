@@ -1,0 +1,367 @@
+#include "sim/cl_simulator.h"
+
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "compute/cl_buffer.h"
+#include "compute/cl_context.h"
+#include "compute/cl_program.h"
+#include "core/error.h"
+#include "core/progress.h"
+
+namespace facesr {
+
+namespace {
+
+using compute::Buffer;
+using compute::LocalMemory;
+
+template <typename Real>
+std::vector<Real> to_real(const std::vector<double>& v) {
+  return std::vector<Real>(v.begin(), v.end());
+}
+
+template <typename Real>
+class ClSimulator final : public Simulator {
+ public:
+  ClSimulator(const SimModel& m, const SolverOptions& opt, const compute::DeviceInfo& dev)
+      : m_(m), opt_(opt), ctx_(dev) {
+    std::string options = "-cl-std=CL1.2";
+    if (sizeof(Real) == 4) options += " -DFSR_REAL_FLOAT -cl-single-precision-constant";
+    prog_ = ctx_.build_program({"fsr_material.h", "sim.cl"}, options);
+    const cl_mem_flags ro = CL_MEM_READ_ONLY;
+    const size_t N = m.num_nodes, T = m.num_tets, S = m.num_surface;
+    const auto& mp = m.material;
+    mat_ = Buffer<Real>(ctx_, std::vector<Real>{Real(mp.mu10), Real(mp.mu01), Real(mp.kappa), Real(mp.j_min),
+                                                Real(mp.sigma_max), Real(mp.p1), Real(mp.p2), Real(mp.stretch_lin)},
+                        ro);
+    rest_ = Buffer<Real>(ctx_, to_real<Real>(m.rest), ro);
+    tets_ = Buffer<cl_int>(ctx_, m.tets, ro);
+    Dminv_ = Buffer<Real>(ctx_, to_real<Real>(m.Dminv), ro);
+    vol_ = Buffer<Real>(ctx_, to_real<Real>(m.volume), ro);
+    fibre_ = Buffer<Real>(ctx_, to_real<Real>(m.fibre), ro);
+    phi_ = Buffer<Real>(ctx_, to_real<Real>(m.phi), ro);
+    muscle_ = Buffer<cl_int>(ctx_, m.muscle, ro);
+    bone_ = Buffer<cl_uchar>(ctx_, m.node_bone, ro);
+    surf_nodes_ = Buffer<cl_int>(ctx_, m.surf_nodes, ro);
+    surf_w_ = Buffer<Real>(ctx_, to_real<Real>(m.surf_weights), ro);
+    surf_rest_ = Buffer<Real>(ctx_, to_real<Real>(m.surf_rest), ro);
+    track_k_ = Buffer<Real>(ctx_, to_real<Real>(m.track_k), ro);
+    deltas_ = Buffer<float>(ctx_, m.shape_deltas, ro);
+    inc_offset_ = Buffer<cl_int>(ctx_, m.inc_offset, ro);
+    inc_slot_ = Buffer<cl_int>(ctx_, m.inc_slot, ro);
+
+    weights_ = Buffer<float>(ctx_, std::max<size_t>(1, m.num_shapes));
+    act_ = Buffer<Real>(ctx_, std::max<size_t>(1, m.num_muscles));
+    alpha_ = Buffer<Real>(ctx_, T);
+    target_ = Buffer<Real>(ctx_, 3 * S);
+    spring_k_ = Buffer<Real>(ctx_, S);
+    spring_target_ = Buffer<Real>(ctx_, 3 * S);
+    for (auto* b : {&x_, &xt_, &g_, &d_, &r_, &z_, &p_, &q_}) *b = Buffer<Real>(ctx_, 3 * N);
+    slots_ = Buffer<Real>(ctx_, 12 * (T + S));
+    dslots_ = Buffer<Real>(ctx_, 36 * (T + S));
+    C_ = Buffer<Real>(ctx_, 81 * T);
+    surfH_ = Buffer<Real>(ctx_, 9 * std::max<size_t>(1, S));
+    Minv_ = Buffer<Real>(ctx_, 9 * N);
+    elem_ = Buffer<Real>(ctx_, std::max(T, S));
+    surf_out_ = Buffer<float>(ctx_, 3 * std::max<size_t>(1, S));
+    local_ = 64;
+    groups_ = 64;
+    node_groups_ = (N + local_ - 1) / local_;
+    partial_ = Buffer<Real>(ctx_, 2 * std::max(groups_, node_groups_));
+    for (const char* k : {"frame_tet_alpha", "frame_targets", "apply_dirichlet", "tet_energy", "tet_gradient",
+                          "tet_hessian", "surface_terms", "gather_nodes",
+                          "gather_diag_inverse", "precondition", "dot2_partial", "sum_partial",
+                          "cg_direction", "axpy_to", "scale_to", "product_all", "gather_dot", "cg_update", "tet_inverted", "embed_surface"})
+      kernels_.emplace(k, prog_.kernel(k));
+    reset();
+  }
+
+  std::string device() const override {
+    return ctx_.device().device_name + " (OpenCL, " + (sizeof(Real) == 8 ? "double" : "float") + ")";
+  }
+  const SimModel& model() const override { return m_; }
+
+  void reset() override {
+    x_.upload(to_real<Real>(m_.rest));
+    have_frame_ = false;
+  }
+  void nodes(std::vector<double>& x) const override {
+    const auto v = x_.download();
+    x.assign(v.begin(), v.end());
+  }
+  void set_nodes(const std::vector<double>& x) override {
+    require(x.size() == 3 * size_t(m_.num_nodes), "set_nodes: expected " + std::to_string(3 * m_.num_nodes) +
+                                                       " values, got " + std::to_string(x.size()));
+    x_.upload(to_real<Real>(x));
+  }
+  void forces(const Controls& c, std::vector<double>& f) override {
+    upload_frame(c, prepare_frame(m_, c));
+    gradient(x_, g_);
+    const auto v = g_.download();
+    f.resize(v.size());
+    for (size_t i = 0; i < v.size(); ++i) f[i] = -double(v[i]);
+  }
+  void surface(std::vector<double>& s) const override {
+    const uint32_t S = m_.num_surface;
+    k("embed_surface").args(S, surf_nodes_, surf_w_, x_, surf_out_).run_1d(S, local_);
+    std::vector<float> out(3 * size_t(S));
+    surf_out_.download(out.data(), out.size());
+    s.assign(out.begin(), out.end());
+  }
+
+  StepStats step(const Controls& c) override {
+    const auto t0 = std::chrono::steady_clock::now();
+    const FrameInputs in = prepare_frame(m_, c);  // validates before touching any state
+    upload_frame(c, in);
+    StepStats st;
+    const uint32_t n = 3 * m_.num_nodes;
+
+    // Reference residual: the gradient at the rest mesh with this frame's bone motion.
+    apply_dirichlet(rest_, xt_);
+    gradient(xt_, g_);
+    const double mu = m_.material.shear_modulus();
+    const double ref = std::max(std::sqrt(dot(g_, g_)), 1e-3 * mu * m_.mean_edge * m_.mean_edge);
+
+    apply_dirichlet(x_, x_);
+    for (int it = 0;; ++it) {
+      gradient(x_, g_);
+      const double gg = dot(g_, g_);
+      st.rel_residual = std::sqrt(gg) / ref;
+      st.residuals.push_back(st.rel_residual);
+      if (!std::isfinite(st.rel_residual)) throw Error("simulation diverged (non-finite forces)");
+      if (st.rel_residual <= opt_.newton_tol) {
+        st.converged = true;
+        break;
+      }
+      if (it >= opt_.newton_max) break;
+      // Exact Hessian near equilibrium, definiteness fix on negative curvature
+      // (see SolverOptions::exact_hessian_below).
+      const bool exact = st.rel_residual < opt_.exact_hessian_below;
+      hessian(x_, !exact);
+      bool negative = false;
+      st.cg_iters += pcg(negative);
+      if (exact && negative) {
+        hessian(x_, true);
+        st.cg_iters += pcg(negative);
+      }
+      ++st.newton_iters;
+      const double e0 = energy(x_);
+      const double slope = dot(g_, d_);
+      double a = 1;
+      bool accepted = false;
+      for (int ls = 0; ls <= opt_.line_search_max; ++ls) {
+        k("axpy_to").args(n, Real(a), x_, d_, xt_).run_1d(n, local_);
+        const double e = energy(xt_);
+        if (std::isfinite(e) && e <= e0 + 1e-4 * a * slope + 1e-13 * std::abs(e0)) {  // roundoff slack
+          accepted = true;
+          break;
+        }
+        a *= 0.5;
+        ++st.line_search_halvings;
+      }
+      if (!accepted) break;
+      std::swap(x_, xt_);
+    }
+    st.energy = energy(x_);
+    const uint32_t T = m_.num_tets;
+    k("tet_inverted").args(T, tets_, x_, Dminv_, elem_).run_1d(T, local_);
+    st.inverted_tets = int(std::lround(sum(elem_, T)));
+    st.ms = 1e3 * seconds_since(t0);
+    return st;
+  }
+
+  double time_stiffness_product(int reps) override {
+    if (!have_frame_) {
+      Controls c;
+      c.weights.assign(m_.num_shapes, 0.0f);
+      upload_frame(c, prepare_frame(m_, c));
+    }
+    const uint32_t n = 3 * m_.num_nodes;
+    k("scale_to").args(n, Real(1), x_, p_).run_1d(n, local_);  // any non-trivial vector will do
+    hessian(x_);
+    ctx_.finish();
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < reps; ++i) product(p_, q_);
+    ctx_.finish();
+    return 1e3 * seconds_since(t0) / reps;
+  }
+
+ private:
+  compute::Kernel& k(const char* name) const { return kernels_.at(name); }
+
+  void upload_frame(const Controls& c, const FrameInputs& in) {
+    if (m_.num_shapes > 0) weights_.upload(c.weights);
+    if (m_.num_muscles > 0) act_.upload(to_real<Real>(in.muscle_activation));
+    std::vector<double> frame(12);
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) frame[3 * i + j] = in.jaw_R(i, j);
+      frame[9 + i] = in.jaw_t[i];
+    }
+    for (const auto& s : in.spheres)
+      frame.insert(frame.end(), {s.centre.x(), s.centre.y(), s.centre.z(), s.radius, s.stiffness});
+    if (frame_.size() < frame.size()) frame_ = Buffer<Real>(ctx_, frame.size());
+    frame_.upload(to_real<Real>(frame));
+    nspheres_ = uint32_t(in.spheres.size());
+    have_frame_ = true;
+    spring_k_.upload(to_real<Real>(in.spring_k));
+    spring_target_.upload(to_real<Real>(in.spring_target));
+    const uint32_t T = m_.num_tets, S = m_.num_surface, B = m_.num_shapes;
+    k("frame_tet_alpha").args(T, muscle_, act_, alpha_).run_1d(T, local_);
+    k("frame_targets").args(S, B, surf_rest_, deltas_, weights_, target_).run_1d(3 * size_t(S), local_);
+  }
+
+  void apply_dirichlet(const Buffer<Real>& from, Buffer<Real>& to) {
+    const uint32_t N = m_.num_nodes;
+    if (&from != &to) k("scale_to").args(3 * N, Real(1), from, to).run_1d(3 * size_t(N), local_);
+    k("apply_dirichlet").args(N, rest_, bone_, frame_, to).run_1d(N, local_);
+  }
+
+  void surface_terms(const Buffer<Real>& x, int mode) {
+    const uint32_t S = m_.num_surface, T = m_.num_tets;
+    k("surface_terms")
+        .args(S, T, cl_int(mode), surf_nodes_, surf_w_, x, track_k_, target_, spring_k_, spring_target_, frame_,
+              nspheres_, elem_, slots_, surfH_, dslots_)
+        .run_1d(S, local_);
+  }
+
+  void gradient(const Buffer<Real>& x, Buffer<Real>& g) {
+    const uint32_t T = m_.num_tets, N = m_.num_nodes;
+    k("tet_gradient").args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, slots_).run_1d(T, local_);
+    surface_terms(x, 1);
+    k("gather_nodes").args(N, inc_offset_, inc_slot_, bone_, slots_, g).run_1d(N, local_);
+  }
+
+  double energy(const Buffer<Real>& x) {
+    const uint32_t T = m_.num_tets, S = m_.num_surface;
+    k("tet_energy").args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, elem_).run_1d(T, local_);
+    const double e = sum(elem_, T);
+    surface_terms(x, 0);
+    return e + sum(elem_, S);
+  }
+
+  void hessian(const Buffer<Real>& x, bool fix = true) {
+    const uint32_t T = m_.num_tets, N = m_.num_nodes;
+    k("tet_hessian").args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, cl_int(fix ? 1 : 0), C_, dslots_).run_1d(T, local_);
+    surface_terms(x, fix ? 2 : 3);
+    k("gather_diag_inverse").args(N, inc_offset_, inc_slot_, bone_, dslots_, Minv_).run_1d(N, local_);
+  }
+
+  void product(const Buffer<Real>& p, Buffer<Real>& q) {
+    const uint32_t T = m_.num_tets, S = m_.num_surface, N = m_.num_nodes;
+    k("product_all").args(T, S, tets_, p, Dminv_, vol_, C_, surf_nodes_, surf_w_, surfH_, slots_).run_1d(T + S, local_);
+    k("gather_nodes").args(N, inc_offset_, inc_slot_, bone_, slots_, q).run_1d(N, local_);
+  }
+
+  // q = K p over free nodes; returns p·q.
+  double product_dot(const Buffer<Real>& p, Buffer<Real>& q) {
+    const uint32_t T = m_.num_tets, S = m_.num_surface, N = m_.num_nodes;
+    k("product_all").args(T, S, tets_, p, Dminv_, vol_, C_, surf_nodes_, surf_w_, surfH_, slots_).run_1d(T + S, local_);
+    k("gather_dot")
+        .args(N, inc_offset_, inc_slot_, bone_, slots_, q, p, partial_, LocalMemory{local_ * sizeof(Real)})
+        .run_1d(N, local_);
+    return sum_partials(1).first;
+  }
+
+  std::pair<double, double> cg_update(double alpha) {
+    const uint32_t N = m_.num_nodes;
+    k("cg_update")
+        .args(N, Real(alpha), p_, q_, Minv_, d_, r_, z_, partial_, LocalMemory{local_ * sizeof(Real)},
+              LocalMemory{local_ * sizeof(Real)})
+        .run_1d(N, local_);
+    return sum_partials(2);
+  }
+
+  // Host sum of the per-group partials of a node kernel (1 or 2 interleaved sums).
+  std::pair<double, double> sum_partials(int count) {
+    std::vector<Real> part(count * node_groups_);
+    partial_.download(part.data(), part.size());
+    double s1 = 0, s2 = 0;
+    for (size_t i = 0; i < node_groups_; ++i) {
+      s1 += part[count * i];
+      if (count == 2) s2 += part[2 * i + 1];
+    }
+    return {s1, s2};
+  }
+
+  std::pair<double, double> dot2(const Buffer<Real>& a, const Buffer<Real>& b, const Buffer<Real>& c,
+                                 const Buffer<Real>& d) {
+    const uint32_t n = 3 * m_.num_nodes;
+    k("dot2_partial")
+        .args(n, a, b, c, d, partial_, LocalMemory{local_ * sizeof(Real)}, LocalMemory{local_ * sizeof(Real)})
+        .run_1d(local_ * groups_, local_);
+    std::vector<Real> part(2 * groups_);
+    partial_.download(part.data(), part.size());
+    double s1 = 0, s2 = 0;
+    for (size_t i = 0; i < groups_; ++i) s1 += part[2 * i], s2 += part[2 * i + 1];
+    return {s1, s2};
+  }
+  double dot(const Buffer<Real>& a, const Buffer<Real>& b) { return dot2(a, b, a, b).first; }
+
+  double sum(const Buffer<Real>& a, uint32_t n) {
+    k("sum_partial").args(n, a, partial_, LocalMemory{local_ * sizeof(Real)}).run_1d(local_ * groups_, local_);
+    std::vector<Real> part(groups_);
+    partial_.download(part.data(), part.size());
+    double s = 0;
+    for (Real v : part) s += v;
+    return s;
+  }
+
+  // K d = −g on the free nodes (bone rows are zero in g, q and Minv).
+  int pcg(bool& negative) {
+    negative = false;
+    const uint32_t n = 3 * m_.num_nodes, N = m_.num_nodes;
+    k("scale_to").args(n, Real(-1), g_, r_).run_1d(n, local_);
+    k("scale_to").args(n, Real(0), g_, d_).run_1d(n, local_);
+    k("precondition").args(N, Minv_, r_, z_).run_1d(N, local_);
+    k("scale_to").args(n, Real(1), z_, p_).run_1d(n, local_);
+    auto [rr, rz] = dot2(r_, r_, r_, z_);
+    const double bnorm = std::sqrt(rr);
+    if (bnorm == 0) return 0;
+    int it = 0;
+    while (it < opt_.cg_max) {
+      const double pq = product_dot(p_, q_);
+      if (!(pq > 0)) {
+        negative = true;
+        break;
+      }
+      const double a = rz / pq;
+      const auto [rr1, rz1] = cg_update(a);
+      ++it;
+      if (std::sqrt(rr1) <= opt_.cg_tol * bnorm) break;
+      const double b = rz1 / rz;
+      rz = rz1;
+      k("cg_direction").args(n, Real(b), z_, p_).run_1d(n, local_);
+    }
+    if (it == 0) k("scale_to").args(n, Real(1), z_, d_).run_1d(n, local_);
+    return it;
+  }
+
+  SimModel m_;
+  SolverOptions opt_;
+  compute::Context ctx_;
+  compute::Program prog_;
+  mutable std::map<std::string, compute::Kernel> kernels_;
+  Buffer<Real> mat_, rest_, Dminv_, vol_, fibre_, phi_, surf_w_, surf_rest_, track_k_;
+  Buffer<cl_int> tets_, muscle_, surf_nodes_, inc_offset_, inc_slot_;
+  Buffer<cl_uchar> bone_;
+  Buffer<float> deltas_, weights_;
+  mutable Buffer<float> surf_out_;
+  Buffer<Real> act_, alpha_, target_, spring_k_, spring_target_, frame_;
+  Buffer<Real> x_, xt_, g_, d_, r_, z_, p_, q_, slots_, dslots_, C_, surfH_, Minv_, elem_, partial_;
+  uint32_t nspheres_ = 0;
+  size_t local_ = 64, groups_ = 64, node_groups_ = 1;
+  bool have_frame_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<Simulator> make_cl_simulator(const SimModel& model, const SolverOptions& opt,
+                                             const ClSimulatorOptions& cl) {
+  const compute::DeviceInfo dev = compute::select_device(cl.device);
+  if (dev.double_support && !cl.single_precision) return std::make_unique<ClSimulator<double>>(model, opt, dev);
+  return std::make_unique<ClSimulator<float>>(model, opt, dev);
+}
+
+}  // namespace facesr

@@ -1,0 +1,24 @@
+#pragma once
+#include <memory>
+
+#include "compute/cl_device.h"
+#include "sim/simulator.h"
+
+namespace facesr {
+
+struct ClSimulatorOptions {
+  compute::DeviceSelector device;  // default: first CPU device (PoCL)
+  // Single precision even where the device has fp64 (GPUs without fast
+  // doubles). Devices without fp64 always run in single precision.
+  bool single_precision = false;
+};
+
+// The OpenCL simulator: the same energy (cl/fsr_material.h) and the same
+// Newton / PCG / line-search algorithm as the CPU reference, with every
+// per-element and vector operation in kernels (cl/sim.cl). Buffers stay on
+// the device across frames; a frame uploads only its controls and downloads
+// only a handful of reduction partials per CG iteration.
+std::unique_ptr<Simulator> make_cl_simulator(const SimModel& model, const SolverOptions& opt = {},
+                                             const ClSimulatorOptions& cl = {});
+
+}  // namespace facesr
