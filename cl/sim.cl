@@ -132,14 +132,17 @@ void surface_point(uint v, __global const int* sn, __global const fsr_real* sw, 
   }
 }
 
-__kernel void surface_terms(const uint S, const uint T, const int mode, __global const int* sn,
+// Work-item i handles surface vertex slist[i]; its slots are 4T + 4i + k.
+__kernel void surface_terms(const uint S, const uint T, const int mode, __global const int* slist,
+                            __global const int* sn,
                             __global const fsr_real* sw, __global const fsr_real* x, __global const fsr_real* track_k,
                             __global const fsr_real* target, __global const fsr_real* spring_k,
                             __global const fsr_real* spring_target, __global const fsr_real* frame,
                             const uint nspheres, __global fsr_real* e, __global fsr_real* slots,
                             __global fsr_real* surfH, __global fsr_real* dslots) {
-  const uint v = get_global_id(0);
-  if (v >= S) return;
+  const uint i = get_global_id(0);
+  if (i >= S) return;
+  const int v = slist[i];
   fsr_real p[3], w[4], g[3] = {0, 0, 0}, H[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, en = 0;
   surface_point(v, sn, sw, x, p, w);
   const fsr_real kt = track_k[v], ks = spring_k[v];
@@ -180,14 +183,14 @@ __kernel void surface_terms(const uint S, const uint T, const int mode, __global
     }
   }
   if (mode == 0) {
-    e[v] = en;
+    e[i] = en;
   } else if (mode == 1) {
-    __global fsr_real* out = slots + 12 * ((size_t)T + v);
+    __global fsr_real* out = slots + 12 * ((size_t)T + i);
     for (int k = 0; k < 4; ++k)
       for (int c = 0; c < 3; ++c) out[3 * k + c] = w[k] * g[c];
   } else {
-    for (int k = 0; k < 9; ++k) surfH[9 * (size_t)v + k] = H[k];
-    __global fsr_real* out = dslots + 36 * ((size_t)T + v);
+    for (int k = 0; k < 9; ++k) surfH[9 * (size_t)i + k] = H[k];
+    __global fsr_real* out = dslots + 36 * ((size_t)T + i);
     for (int k = 0; k < 4; ++k)
       for (int q = 0; q < 9; ++q) out[9 * k + q] = w[k] * w[k] * H[q];
   }
@@ -339,11 +342,11 @@ __kernel void scale_to(const uint n, const fsr_real s, __global const fsr_real* 
 // node, power-of-two local size, one partial sum per work-group.
 
 // Tet and surface stiffness products in one launch: ids [0, T) are tets,
-// [T, T + S) surface vertices.
+// [T, T + S) the vertices of the surface list.
 __kernel void product_all(const uint T, const uint S, __global const int* tets, __global const fsr_real* p,
                           __global const fsr_real* Dminv_g, __global const fsr_real* vol,
-                          __global const fsr_real* C_g, __global const int* sn, __global const fsr_real* sw,
-                          __global const fsr_real* surfH, __global fsr_real* slots) {
+                          __global const fsr_real* C_g, __global const int* slist, __global const int* sn,
+                          __global const fsr_real* sw, __global const fsr_real* surfH, __global fsr_real* slots) {
   const uint id = get_global_id(0);
   if (id < T) {
     const uint t = id;
@@ -363,12 +366,12 @@ __kernel void product_all(const uint T, const uint S, __global const int* tets, 
     fsr_tet_scatter(dP, Dminv, vol[t], y);
     for (int k = 0; k < 12; ++k) slots[12 * (size_t)t + k] = y[k];
   } else if (id < T + S) {
-    const uint v = id - T;
+    const uint i = id - T;
     fsr_real q[3], w[4], hq[3];
-    surface_point(v, sn, sw, p, q, w);
-    __global const fsr_real* H = surfH + 9 * (size_t)v;
-    for (int i = 0; i < 3; ++i) hq[i] = H[3 * i] * q[0] + H[3 * i + 1] * q[1] + H[3 * i + 2] * q[2];
-    __global fsr_real* out = slots + 12 * ((size_t)T + v);
+    surface_point(slist[i], sn, sw, p, q, w);
+    __global const fsr_real* H = surfH + 9 * (size_t)i;
+    for (int r = 0; r < 3; ++r) hq[r] = H[3 * r] * q[0] + H[3 * r + 1] * q[1] + H[3 * r + 2] * q[2];
+    __global fsr_real* out = slots + 12 * ((size_t)T + i);
     for (int k = 0; k < 4; ++k)
       for (int c = 0; c < 3; ++c) out[3 * k + c] = w[k] * hq[c];
   }
@@ -440,4 +443,14 @@ __kernel void cg_update(const uint N, const fsr_real alpha, __global const fsr_r
     partial[2 * get_group_id(0)] = s1[0];
     partial[2 * get_group_id(0) + 1] = s2[0];
   }
+}
+
+// Warm start for the next frame by linear extrapolation of the last two:
+// x ← 2x − x_prev, x_prev ← x (old).
+__kernel void extrapolate(const uint n, __global fsr_real* x, __global fsr_real* x_prev) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  const fsr_real xi = x[i];
+  x[i] = 2 * xi - x_prev[i];
+  x_prev[i] = xi;
 }

@@ -2,6 +2,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
 #include <map>
 
 #include "compute/cl_buffer.h"
@@ -49,8 +52,13 @@ class ClSimulator final : public Simulator {
     surf_rest_ = Buffer<Real>(ctx_, to_real<Real>(m.surf_rest), ro);
     track_k_ = Buffer<Real>(ctx_, to_real<Real>(m.track_k), ro);
     deltas_ = Buffer<float>(ctx_, m.shape_deltas, ro);
-    inc_offset_ = Buffer<cl_int>(ctx_, m.inc_offset, ro);
-    inc_slot_ = Buffer<cl_int>(ctx_, m.inc_slot, ro);
+    for (int which = 0; which < 2; ++which) {
+      const SimModel::Incidence& inc = which ? m.inc_tracked : m.inc_all;
+      inc_[which].count = uint32_t(inc.vertices.size());
+      inc_[which].vertices = Buffer<cl_int>(ctx_, inc.vertices, ro);
+      inc_[which].offset = Buffer<cl_int>(ctx_, inc.offset, ro);
+      inc_[which].slot = Buffer<cl_int>(ctx_, inc.slot, ro);
+    }
 
     weights_ = Buffer<float>(ctx_, std::max<size_t>(1, m.num_shapes));
     act_ = Buffer<Real>(ctx_, std::max<size_t>(1, m.num_muscles));
@@ -58,7 +66,7 @@ class ClSimulator final : public Simulator {
     target_ = Buffer<Real>(ctx_, 3 * S);
     spring_k_ = Buffer<Real>(ctx_, S);
     spring_target_ = Buffer<Real>(ctx_, 3 * S);
-    for (auto* b : {&x_, &xt_, &g_, &d_, &r_, &z_, &p_, &q_}) *b = Buffer<Real>(ctx_, 3 * N);
+    for (auto* b : {&x_, &x_prev_, &xt_, &g_, &d_, &r_, &z_, &p_, &q_}) *b = Buffer<Real>(ctx_, 3 * N);
     slots_ = Buffer<Real>(ctx_, 12 * (T + S));
     dslots_ = Buffer<Real>(ctx_, 36 * (T + S));
     C_ = Buffer<Real>(ctx_, 81 * T);
@@ -73,7 +81,7 @@ class ClSimulator final : public Simulator {
     for (const char* k : {"frame_tet_alpha", "frame_targets", "apply_dirichlet", "tet_energy", "tet_gradient",
                           "tet_hessian", "surface_terms", "gather_nodes",
                           "gather_diag_inverse", "precondition", "dot2_partial", "sum_partial",
-                          "cg_direction", "axpy_to", "scale_to", "product_all", "gather_dot", "cg_update", "tet_inverted", "embed_surface"})
+                          "cg_direction", "axpy_to", "scale_to", "extrapolate", "product_all", "gather_dot", "cg_update", "tet_inverted", "embed_surface"})
       kernels_.emplace(k, prog_.kernel(k));
     reset();
   }
@@ -86,6 +94,7 @@ class ClSimulator final : public Simulator {
   void reset() override {
     x_.upload(to_real<Real>(m_.rest));
     have_frame_ = false;
+    solved_frames_ = 0;
   }
   void nodes(std::vector<double>& x) const override {
     const auto v = x_.download();
@@ -95,6 +104,7 @@ class ClSimulator final : public Simulator {
     require(x.size() == 3 * size_t(m_.num_nodes), "set_nodes: expected " + std::to_string(3 * m_.num_nodes) +
                                                        " values, got " + std::to_string(x.size()));
     x_.upload(to_real<Real>(x));
+    solved_frames_ = 0;
   }
   void forces(const Controls& c, std::vector<double>& f) override {
     upload_frame(c, prepare_frame(m_, c));
@@ -114,7 +124,9 @@ class ClSimulator final : public Simulator {
   StepStats step(const Controls& c) override {
     const auto t0 = std::chrono::steady_clock::now();
     const FrameInputs in = prepare_frame(m_, c);  // validates before touching any state
+    last_mark_ = t0;
     upload_frame(c, in);
+    mark("upload");
     StepStats st;
     const uint32_t n = 3 * m_.num_nodes;
 
@@ -123,11 +135,19 @@ class ClSimulator final : public Simulator {
     gradient(xt_, g_);
     const double mu = m_.material.shear_modulus();
     const double ref = std::max(std::sqrt(dot(g_, g_)), 1e-3 * mu * m_.mean_edge * m_.mean_edge);
+    mark("reference residual");
 
+    if (opt_.extrapolate && solved_frames_ >= 2) {
+      k("extrapolate").args(n, x_, x_prev_).run_1d(n, local_);
+    } else {
+      k("scale_to").args(n, Real(1), x_, x_prev_).run_1d(n, local_);
+    }
     apply_dirichlet(x_, x_);
+    double e_cur = std::numeric_limits<double>::quiet_NaN();  // energy at x_, once known
     for (int it = 0;; ++it) {
       gradient(x_, g_);
       const double gg = dot(g_, g_);
+      mark("gradient");
       st.rel_residual = std::sqrt(gg) / ref;
       st.residuals.push_back(st.rel_residual);
       if (!std::isfinite(st.rel_residual)) throw Error("simulation diverged (non-finite forces)");
@@ -140,14 +160,16 @@ class ClSimulator final : public Simulator {
       // (see SolverOptions::exact_hessian_below).
       const bool exact = st.rel_residual < opt_.exact_hessian_below;
       hessian(x_, !exact);
+      mark("hessian");
       bool negative = false;
       st.cg_iters += pcg(negative);
       if (exact && negative) {
         hessian(x_, true);
         st.cg_iters += pcg(negative);
       }
+      mark("cg");
       ++st.newton_iters;
-      const double e0 = energy(x_);
+      const double e0 = std::isnan(e_cur) ? energy(x_) : e_cur;
       const double slope = dot(g_, d_);
       double a = 1;
       bool accepted = false;
@@ -156,20 +178,29 @@ class ClSimulator final : public Simulator {
         const double e = energy(xt_);
         if (std::isfinite(e) && e <= e0 + 1e-4 * a * slope + 1e-13 * std::abs(e0)) {  // roundoff slack
           accepted = true;
+          e_cur = e;
           break;
         }
         a *= 0.5;
         ++st.line_search_halvings;
       }
+      mark("line search");
       if (!accepted) break;
       std::swap(x_, xt_);
     }
-    st.energy = energy(x_);
+    st.energy = std::isnan(e_cur) ? energy(x_) : e_cur;
+    ++solved_frames_;
     const uint32_t T = m_.num_tets;
     k("tet_inverted").args(T, tets_, x_, Dminv_, elem_).run_1d(T, local_);
     st.inverted_tets = int(std::lround(sum(elem_, T)));
+    mark("finish");
     st.ms = 1e3 * seconds_since(t0);
     return st;
+  }
+
+  ~ClSimulator() override {
+    if (!profile_) return;
+    for (const auto& [phase, ms] : phase_ms_) std::fprintf(stderr, "[sim profile] %-20s %9.1f ms\n", phase.c_str(), ms);
   }
 
   double time_stiffness_product(int reps) override {
@@ -191,6 +222,17 @@ class ClSimulator final : public Simulator {
  private:
   compute::Kernel& k(const char* name) const { return kernels_.at(name); }
 
+  // FACESR_SIM_PROFILE=1: per-phase wall times (with a queue drain after each
+  // phase, so they add up to slightly more than an unprofiled step), printed
+  // when the simulator is destroyed.
+  void mark(const char* phase) {
+    if (!profile_) return;
+    ctx_.finish();
+    const auto now = std::chrono::steady_clock::now();
+    phase_ms_[phase] += 1e3 * std::chrono::duration<double>(now - last_mark_).count();
+    last_mark_ = now;
+  }
+
   void upload_frame(const Controls& c, const FrameInputs& in) {
     if (m_.num_shapes > 0) weights_.upload(c.weights);
     if (m_.num_muscles > 0) act_.upload(to_real<Real>(in.muscle_activation));
@@ -204,6 +246,10 @@ class ClSimulator final : public Simulator {
     if (frame_.size() < frame.size()) frame_ = Buffer<Real>(ctx_, frame.size());
     frame_.upload(to_real<Real>(frame));
     nspheres_ = uint32_t(in.spheres.size());
+    // Only the tracked vertices carry forces unless springs or spheres may touch any vertex.
+    bool springs = false;
+    for (double kv : in.spring_k) springs = springs || kv > 0;
+    cur_ = (springs || nspheres_ > 0) ? &inc_[0] : &inc_[1];
     have_frame_ = true;
     spring_k_.upload(to_real<Real>(in.spring_k));
     spring_target_.upload(to_real<Real>(in.spring_target));
@@ -219,9 +265,9 @@ class ClSimulator final : public Simulator {
   }
 
   void surface_terms(const Buffer<Real>& x, int mode) {
-    const uint32_t S = m_.num_surface, T = m_.num_tets;
+    const uint32_t S = cur_->count, T = m_.num_tets;
     k("surface_terms")
-        .args(S, T, cl_int(mode), surf_nodes_, surf_w_, x, track_k_, target_, spring_k_, spring_target_, frame_,
+        .args(S, T, cl_int(mode), cur_->vertices, surf_nodes_, surf_w_, x, track_k_, target_, spring_k_, spring_target_, frame_,
               nspheres_, elem_, slots_, surfH_, dslots_)
         .run_1d(S, local_);
   }
@@ -230,11 +276,11 @@ class ClSimulator final : public Simulator {
     const uint32_t T = m_.num_tets, N = m_.num_nodes;
     k("tet_gradient").args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, slots_).run_1d(T, local_);
     surface_terms(x, 1);
-    k("gather_nodes").args(N, inc_offset_, inc_slot_, bone_, slots_, g).run_1d(N, local_);
+    k("gather_nodes").args(N, cur_->offset, cur_->slot, bone_, slots_, g).run_1d(N, local_);
   }
 
   double energy(const Buffer<Real>& x) {
-    const uint32_t T = m_.num_tets, S = m_.num_surface;
+    const uint32_t T = m_.num_tets, S = cur_->count;
     k("tet_energy").args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, elem_).run_1d(T, local_);
     const double e = sum(elem_, T);
     surface_terms(x, 0);
@@ -245,21 +291,21 @@ class ClSimulator final : public Simulator {
     const uint32_t T = m_.num_tets, N = m_.num_nodes;
     k("tet_hessian").args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, cl_int(fix ? 1 : 0), C_, dslots_).run_1d(T, local_);
     surface_terms(x, fix ? 2 : 3);
-    k("gather_diag_inverse").args(N, inc_offset_, inc_slot_, bone_, dslots_, Minv_).run_1d(N, local_);
+    k("gather_diag_inverse").args(N, cur_->offset, cur_->slot, bone_, dslots_, Minv_).run_1d(N, local_);
   }
 
   void product(const Buffer<Real>& p, Buffer<Real>& q) {
-    const uint32_t T = m_.num_tets, S = m_.num_surface, N = m_.num_nodes;
-    k("product_all").args(T, S, tets_, p, Dminv_, vol_, C_, surf_nodes_, surf_w_, surfH_, slots_).run_1d(T + S, local_);
-    k("gather_nodes").args(N, inc_offset_, inc_slot_, bone_, slots_, q).run_1d(N, local_);
+    const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes;
+    k("product_all").args(T, S, tets_, p, Dminv_, vol_, C_, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_).run_1d(T + S, local_);
+    k("gather_nodes").args(N, cur_->offset, cur_->slot, bone_, slots_, q).run_1d(N, local_);
   }
 
   // q = K p over free nodes; returns p·q.
   double product_dot(const Buffer<Real>& p, Buffer<Real>& q) {
-    const uint32_t T = m_.num_tets, S = m_.num_surface, N = m_.num_nodes;
-    k("product_all").args(T, S, tets_, p, Dminv_, vol_, C_, surf_nodes_, surf_w_, surfH_, slots_).run_1d(T + S, local_);
+    const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes;
+    k("product_all").args(T, S, tets_, p, Dminv_, vol_, C_, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_).run_1d(T + S, local_);
     k("gather_dot")
-        .args(N, inc_offset_, inc_slot_, bone_, slots_, q, p, partial_, LocalMemory{local_ * sizeof(Real)})
+        .args(N, cur_->offset, cur_->slot, bone_, slots_, q, p, partial_, LocalMemory{local_ * sizeof(Real)})
         .run_1d(N, local_);
     return sum_partials(1).first;
   }
@@ -344,15 +390,25 @@ class ClSimulator final : public Simulator {
   compute::Program prog_;
   mutable std::map<std::string, compute::Kernel> kernels_;
   Buffer<Real> mat_, rest_, Dminv_, vol_, fibre_, phi_, surf_w_, surf_rest_, track_k_;
-  Buffer<cl_int> tets_, muscle_, surf_nodes_, inc_offset_, inc_slot_;
+  Buffer<cl_int> tets_, muscle_, surf_nodes_;
+  struct IncidenceBuffers {
+    uint32_t count = 0;
+    Buffer<cl_int> vertices, offset, slot;
+  };
+  IncidenceBuffers inc_[2];  // every surface vertex, tracked vertices only
+  IncidenceBuffers* cur_ = &inc_[0];
   Buffer<cl_uchar> bone_;
   Buffer<float> deltas_, weights_;
   mutable Buffer<float> surf_out_;
   Buffer<Real> act_, alpha_, target_, spring_k_, spring_target_, frame_;
-  Buffer<Real> x_, xt_, g_, d_, r_, z_, p_, q_, slots_, dslots_, C_, surfH_, Minv_, elem_, partial_;
+  Buffer<Real> x_, x_prev_, xt_, g_, d_, r_, z_, p_, q_, slots_, dslots_, C_, surfH_, Minv_, elem_, partial_;
   uint32_t nspheres_ = 0;
   size_t local_ = 64, groups_ = 64, node_groups_ = 1;
   bool have_frame_ = false;
+  int solved_frames_ = 0;
+  bool profile_ = std::getenv("FACESR_SIM_PROFILE") != nullptr;
+  std::map<std::string, double> phase_ms_;
+  std::chrono::steady_clock::time_point last_mark_;
 };
 
 }  // namespace

@@ -17,8 +17,8 @@ void gather_slots(const SimModel& m, const std::vector<double>& slots, std::vect
 #pragma omp parallel for schedule(static)
   for (int v = 0; v < m.num_nodes; ++v) {
     double s0 = 0, s1 = 0, s2 = 0;
-    for (int i = m.inc_offset[v]; i < m.inc_offset[v + 1]; ++i) {
-      const size_t s = size_t(m.inc_slot[i]);
+    for (int i = m.inc_all.offset[v]; i < m.inc_all.offset[v + 1]; ++i) {
+      const size_t s = size_t(m.inc_all.slot[i]);
       s0 += slots[3 * s];
       s1 += slots[3 * s + 1];
       s2 += slots[3 * s + 2];
@@ -154,8 +154,8 @@ void element_hessian(const SimModel& m, const FrameInputs& in, const std::vector
   H.diag.assign(9 * size_t(m.num_nodes), 0.0);
 #pragma omp parallel for schedule(static)
   for (int v = 0; v < m.num_nodes; ++v)
-    for (int i = m.inc_offset[v]; i < m.inc_offset[v + 1]; ++i)
-      for (int e = 0; e < 9; ++e) H.diag[9 * size_t(v) + e] += dslots[9 * size_t(m.inc_slot[i]) + e];
+    for (int i = m.inc_all.offset[v]; i < m.inc_all.offset[v + 1]; ++i)
+      for (int e = 0; e < 9; ++e) H.diag[9 * size_t(v) + e] += dslots[9 * size_t(m.inc_all.slot[i]) + e];
 }
 
 void hessian_product(const SimModel& m, const ElementHessian& H, const std::vector<double>& dx,

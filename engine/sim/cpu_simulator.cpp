@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "core/error.h"
 #include "core/progress.h"
@@ -35,13 +36,17 @@ class CpuSimulator final : public Simulator {
  public:
   CpuSimulator(const SimModel& m, const SolverOptions& opt) : m_(m), opt_(opt) { reset(); }
 
-  void reset() override { x_ = m_.rest; }
+  void reset() override {
+    x_ = m_.rest;
+    solved_frames_ = 0;
+  }
   void nodes(std::vector<double>& x) const override { x = x_; }
   void surface(std::vector<double>& s) const override { embed_surface(m_, x_, s); }
   void set_nodes(const std::vector<double>& x) override {
     require(x.size() == x_.size(), "set_nodes: expected " + std::to_string(x_.size()) + " values, got " +
                                        std::to_string(x.size()));
     x_ = x;
+    solved_frames_ = 0;
   }
   void forces(const Controls& c, std::vector<double>& f) override {
     const FrameInputs in = prepare_frame(m_, c);
@@ -78,7 +83,17 @@ class CpuSimulator final : public Simulator {
     const double mu = m_.material.shear_modulus();
     const double ref = std::max(std::sqrt(dot(g, g)), 1e-3 * mu * m_.mean_edge * m_.mean_edge);
 
+    if (opt_.extrapolate && solved_frames_ >= 2) {
+      for (size_t i = 0; i < n; ++i) {
+        const double xi = x_[i];
+        x_[i] = 2 * xi - x_prev_[i];
+        x_prev_[i] = xi;
+      }
+    } else {
+      x_prev_ = x_;
+    }
     dirichlet_positions(m_, in, x_);
+    double e_cur = std::numeric_limits<double>::quiet_NaN();  // energy at x_, once known
     ElementHessian H;
     std::vector<double> d(n), xt(n);
     for (int it = 0;; ++it) {
@@ -104,7 +119,7 @@ class CpuSimulator final : public Simulator {
         st.cg_iters += pcg(H, g, d, negative);
       }
       ++st.newton_iters;
-      const double e0 = total_energy(m_, in, alpha, x_);
+      const double e0 = std::isnan(e_cur) ? total_energy(m_, in, alpha, x_) : e_cur;
       const double slope = dot(g, d);
       double a = 1;
       bool accepted = false;
@@ -113,6 +128,7 @@ class CpuSimulator final : public Simulator {
         const double e = total_energy(m_, in, alpha, xt);
         if (std::isfinite(e) && e <= e0 + 1e-4 * a * slope + 1e-13 * std::abs(e0)) {  // roundoff slack
           accepted = true;
+          e_cur = e;
           break;
         }
         a *= 0.5;
@@ -121,7 +137,8 @@ class CpuSimulator final : public Simulator {
       if (!accepted) break;  // no descent along d: report the residual as is
       x_.swap(xt);
     }
-    st.energy = total_energy(m_, in, alpha, x_);
+    st.energy = std::isnan(e_cur) ? total_energy(m_, in, alpha, x_) : e_cur;
+    ++solved_frames_;
     st.inverted_tets = count_inverted(m_, x_);
     st.ms = 1e3 * seconds_since(t0);
     return st;
@@ -182,7 +199,8 @@ class CpuSimulator final : public Simulator {
 
   SimModel m_;
   SolverOptions opt_;
-  std::vector<double> x_;
+  std::vector<double> x_, x_prev_;
+  int solved_frames_ = 0;
 };
 
 }  // namespace

@@ -15,6 +15,27 @@ Resolution parse_resolution(const std::string& s) {
 
 const char* resolution_name(Resolution r) { return r == Resolution::Low ? "low" : "high"; }
 
+namespace {
+
+// Node → slot lists by counting sort.
+SimModel::Incidence make_incidence(const SimModel& m, const std::vector<int32_t>& vertices) {
+  SimModel::Incidence inc;
+  inc.vertices = vertices;
+  const int nslots = 4 * (m.num_tets + int(vertices.size()));
+  auto slot_node = [&](int s) {
+    return s < 4 * m.num_tets ? m.tets[s] : m.surf_nodes[4 * vertices[(s - 4 * m.num_tets) / 4] + s % 4];
+  };
+  inc.offset.assign(m.num_nodes + 1, 0);
+  for (int s = 0; s < nslots; ++s) ++inc.offset[slot_node(s) + 1];
+  for (int v = 0; v < m.num_nodes; ++v) inc.offset[v + 1] += inc.offset[v];
+  inc.slot.resize(nslots);
+  std::vector<int32_t> fill(inc.offset.begin(), inc.offset.end() - 1);
+  for (int s = 0; s < nslots; ++s) inc.slot[fill[slot_node(s)]++] = s;
+  return inc;
+}
+
+}  // namespace
+
 SimModel make_sim_model(const Rig& rig, Resolution res, const MaterialParams& material) {
   const SimMesh& sm = res == Resolution::Low ? rig.lr : rig.hr;
   const std::string what = std::string("rig '") + rig.name + "' " + resolution_name(res) + " mesh";
@@ -95,15 +116,13 @@ SimModel make_sim_model(const Rig& rig, Resolution res, const MaterialParams& ma
   }
   m.face_size = (hi - lo).norm();
 
-  // Incidence lists (counting sort by node).
-  const int nslots = 4 * (m.num_tets + m.num_surface);
-  auto slot_node = [&](int s) { return s < 4 * m.num_tets ? m.tets[s] : m.surf_nodes[s - 4 * m.num_tets]; };
-  m.inc_offset.assign(m.num_nodes + 1, 0);
-  for (int s = 0; s < nslots; ++s) ++m.inc_offset[slot_node(s) + 1];
-  for (int v = 0; v < m.num_nodes; ++v) m.inc_offset[v + 1] += m.inc_offset[v];
-  m.inc_slot.resize(nslots);
-  std::vector<int32_t> fill(m.inc_offset.begin(), m.inc_offset.end() - 1);
-  for (int s = 0; s < nslots; ++s) m.inc_slot[fill[slot_node(s)]++] = s;
+  std::vector<int32_t> all(m.num_surface), tracked;
+  for (int v = 0; v < m.num_surface; ++v) {
+    all[v] = v;
+    if (m.track_k[v] > 0) tracked.push_back(v);
+  }
+  m.inc_all = make_incidence(m, all);
+  m.inc_tracked = make_incidence(m, tracked);
   return m;
 }
 

@@ -43,9 +43,16 @@ struct SimModel {
   double face_size = 0;  // cm, diagonal of the surface bounding box
 
   // Node → incidence slots for race-free gathers: slot 4t+k is corner k of
-  // tet t, slot 4·num_tets + 4v + k is corner k of surface vertex v.
-  std::vector<int32_t> inc_offset;  // node + 1
-  std::vector<int32_t> inc_slot;
+  // tet t, slot 4·num_tets + 4i + k is corner k of the i-th vertex of a
+  // surface list. Two lists: every surface vertex (needed when point springs
+  // or spheres may touch any vertex), and only the tracked vertices (enough
+  // otherwise, and far fewer on the LR lattice).
+  struct Incidence {
+    std::vector<int32_t> vertices;  // the surface list
+    std::vector<int32_t> offset;    // node + 1
+    std::vector<int32_t> slot;
+  };
+  Incidence inc_all, inc_tracked;
 };
 
 SimModel make_sim_model(const Rig& rig, Resolution res, const MaterialParams& material = {});

@@ -20,6 +20,9 @@ struct SolverOptions {
   // Below this relative residual Newton uses the exact (unfixed) Hessian,
   // falling back to the definiteness-fixed one on negative curvature.
   double exact_hessian_below = 1e-2;
+  // Start each frame from the linear extrapolation of the last two solved
+  // frames rather than the last one (smooth performances need fewer Newton steps).
+  bool extrapolate = true;
 };
 
 struct StepStats {
