@@ -253,3 +253,89 @@ TEST(SimCpu, VolumeChangeUnderFullActivationBelowTwoPercent) {
   std::printf("worst muscle volume change %.3f%%\n", 100 * worst);
   EXPECT_LT(worst, 0.02);
 }
+
+TEST(SimCpu, NewtonConvergesQuadraticallyNearTheSolution) {
+  const SimModel m = make_sim_model(fixtures::procedural_rig(), Resolution::Low);
+  SolverOptions opt;
+  opt.newton_tol = 1e-10;
+  opt.newton_max = 40;
+  opt.cg_tol = 1e-10;
+  opt.cg_max = 5000;
+  auto sim = make_cpu_simulator(m, opt);
+  Controls c = zero_controls(m);
+  c.activations.assign(m.num_muscles, 0.0f);
+  c.activations[muscle_index(m, "zygomaticus_major_L")] = 1.0f;
+  c.activations[muscle_index(m, "orbicularis_oris")] = 0.5f;
+  const StepStats st = sim->step(c);
+  ASSERT_TRUE(st.converged);
+  const auto& r = st.residuals;
+  ASSERT_GE(r.size(), 3u);
+  // The last steps: each residual at most ~ C · previous², with C from the run itself.
+  const size_t n = r.size();
+  EXPECT_LT(r[n - 1], 1e-10);
+  EXPECT_LT(r[n - 1], 10 * r[n - 2] * r[n - 2] / r[0]) << "final step not quadratic";
+  EXPECT_LT(st.newton_iters, 20);
+}
+
+TEST(SimCpu, LowAndHighResolutionAgreeInBulk) {
+  // Material and track stiffness are per volume and per area, so the two
+  // meshes of one rig must move the face alike (paper §4).
+  const Rig& rig = fixtures::procedural_rig();
+  const int corner = landmark(rig, "mouth_corner_L");
+  Vec3 d[2];
+  for (int res = 0; res < 2; ++res) {
+    const SimModel m = make_sim_model(rig, res ? Resolution::High : Resolution::Low);
+    auto sim = make_cpu_simulator(m);
+    Controls c = zero_controls(m);
+    for (int b = 0; b < m.num_shapes; ++b)
+      if (m.shape_names[b] == "mouthSmile_L") c.weights[b] = 1.0f;
+    const StepStats st = sim->step(c);
+    EXPECT_TRUE(st.converged) << (res ? "HR" : "LR");
+    std::vector<double> s;
+    sim->surface(s);
+    d[res] = Vec3(&s[3 * corner]) - Vec3(&m.surf_rest[3 * corner]);
+    std::printf("%s: %d tets, lip corner moved (%.3f, %.3f, %.3f) cm in %.0f ms\n", res ? "HR" : "LR", m.num_tets,
+                d[res].x(), d[res].y(), d[res].z(), st.ms);
+  }
+  EXPECT_GT(d[0].dot(d[1]), 0.8 * d[0].norm() * d[1].norm());  // same direction (within ~37°)
+  EXPECT_LT(d[1].norm(), 2.0 * d[0].norm());
+  EXPECT_GT(d[1].norm(), 0.5 * d[0].norm());
+}
+
+TEST(SimCpu, PointSpringPullsAndSpherePushes) {
+  const Rig& rig = fixtures::procedural_rig();
+  const SimModel m = make_sim_model(rig, Resolution::Low);
+  const int corner = landmark(rig, "mouth_corner_L");
+  const Vec3 rest(&m.surf_rest[3 * corner]);
+  {
+    auto sim = make_cpu_simulator(m);
+    Controls c = zero_controls(m);
+    const Vec3 target = rest + Vec3(1.0, -0.5, 1.0);  // the "candy cane" pull, out and down
+    c.springs.push_back({corner, target, 100.0});
+    EXPECT_TRUE(sim->step(c).converged);
+    std::vector<double> s;
+    sim->surface(s);
+    const Vec3 p(&s[3 * corner]);
+    EXPECT_LT((p - target).norm(), 0.8 * (rest - target).norm());
+    EXPECT_GT((p - rest).dot(target - rest), 0.0);
+  }
+  {
+    auto sim = make_cpu_simulator(m);
+    Controls c = zero_controls(m);
+    // A 2 cm sphere sunk 0.6 cm into the left cheek along the outward direction.
+    const int cheek = landmark(rig, "cheek_L") >= 0 ? landmark(rig, "cheek_L") : corner;
+    const Vec3 p0(&m.surf_rest[3 * cheek]);
+    const Vec3 out = (p0 - Vec3(0, p0.y(), 0)).normalized();
+    c.spheres.push_back({p0 + out * (2.0 - 0.6), 2.0, 200.0});
+    const StepStats st = sim->step(c);
+    EXPECT_TRUE(st.converged);
+    std::vector<double> s;
+    sim->surface(s);
+    const Vec3 p(&s[3 * cheek]);
+    EXPECT_LT((p - p0).dot(out), -0.2);  // pushed in
+    double deepest = 0;
+    for (int v = 0; v < m.num_surface; ++v)
+      deepest = std::max(deepest, 2.0 - (Vec3(&s[3 * v]) - c.spheres[0].centre).norm());
+    EXPECT_LT(deepest, 0.3);  // the penalty keeps the skin near the sphere surface
+  }
+}

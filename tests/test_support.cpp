@@ -36,3 +36,34 @@ std::string ict_dir() {
 bool have_ict() { return std::filesystem::exists(ict_dir() + "/README.md") || std::filesystem::is_directory(ict_dir()); }
 
 }  // namespace facesr::fixtures
+
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace facesr::fixtures {
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+CliResult run_cli(const std::string& args, const std::string& scratch_dir) {
+  const std::string out = scratch_dir + "/cli_stdout.txt", err = scratch_dir + "/cli_stderr.txt";
+  const std::string cmd = shell_quote(FACESR_CLI) + " " + args + " >" + shell_quote(out) + " 2>" + shell_quote(err);
+  const int raw = std::system(cmd.c_str());
+  CliResult r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  auto slurp = [](const std::string& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+}  // namespace facesr::fixtures

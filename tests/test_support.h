@@ -15,3 +15,16 @@ std::string ict_dir();  // $FACESR_ICT_DIR or ../shared/data/ict-facekit
 bool have_ict();
 
 }  // namespace facesr::fixtures
+
+namespace facesr::fixtures {
+
+struct CliResult {
+  int status = -1;
+  std::string out, err;
+};
+// Runs the facesr binary with `args` (already shell-quoted where needed),
+// capturing stdout and stderr through files in `scratch_dir`.
+CliResult run_cli(const std::string& args, const std::string& scratch_dir);
+std::string shell_quote(const std::string& s);
+
+}  // namespace facesr::fixtures

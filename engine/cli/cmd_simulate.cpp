@@ -81,6 +81,63 @@ void require_parent(const std::string& out) {
           "output folder '" + parent.string() + "' does not exist");
 }
 
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out(1);
+  for (char ch : s) {
+    if (ch == sep)
+      out.emplace_back();
+    else
+      out.back().push_back(ch);
+  }
+  return out;
+}
+
+double number(const std::string& text, const std::string& what) {
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  throw Error(what + ": '" + text + "' is not a finite number");
+}
+
+Vec3 vec3(const std::string& text, const std::string& what) {
+  const auto p = split(text, ',');
+  require(p.size() == 3, what + ": expected x,y,z, got '" + text + "'");
+  return Vec3(number(p[0], what), number(p[1], what), number(p[2], what));
+}
+
+// --spring VERTEX:DX,DY,DZ:K, VERTEX a face-surface index or a landmark name;
+// the target is the vertex's rest position (mesh frame) plus the offset, cm.
+PointSpring parse_spring(const std::string& spec, const Rig& rig, const SimModel& m) {
+  const std::string what = "--spring '" + spec + "'";
+  const auto p = split(spec, ':');
+  require(p.size() == 3, what + ": expected VERTEX:DX,DY,DZ:STIFFNESS");
+  PointSpring s;
+  for (size_t i = 0; i < rig.landmark_names.size(); ++i)
+    if (rig.landmark_names[i] == p[0]) s.vertex = rig.landmark_vertex[i];
+  if (s.vertex < 0) {
+    const double v = number(p[0], what + " (vertex is neither a landmark name nor an index)");
+    require(v >= 0 && v < m.num_surface && v == std::floor(v), what + ": vertex index out of range");
+    s.vertex = int(v);
+  }
+  s.target = Vec3(&m.surf_rest[3 * size_t(s.vertex)]) + vec3(p[1], what);
+  s.stiffness = number(p[2], what);
+  require(s.stiffness >= 0, what + ": stiffness must be >= 0");
+  return s;
+}
+
+// --sphere X,Y,Z:RADIUS:K in the mesh frame, cm.
+SphereCollider parse_sphere(const std::string& spec) {
+  const std::string what = "--sphere '" + spec + "'";
+  const auto p = split(spec, ':');
+  require(p.size() == 3, what + ": expected X,Y,Z:RADIUS:STIFFNESS");
+  SphereCollider s{vec3(p[0], what), number(p[1], what), number(p[2], what)};
+  require(s.radius > 0 && s.stiffness >= 0, what + ": radius must be > 0 and stiffness >= 0");
+  return s;
+}
+
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
@@ -92,6 +149,7 @@ double percentile(std::vector<double> v, double q) {
 void register_simulate(CLI::App& app) {
   struct Args {
     std::string rig, res = "low", performance, builtin, out;
+    std::vector<std::string> springs, spheres;
     int max_frames = 0;
     bool json = false, quiet = false;
     SolverArgs solver;
@@ -109,6 +167,10 @@ void register_simulate(CLI::App& app) {
   sub->add_option("--out,-o", a.out, "Output sequence (.fsq): node positions and face surface per frame, cm")
       ->required();
   sub->add_option("--frames", a.max_frames, "Simulate only the first N frames");
+  sub->add_option("--spring", a.springs,
+                  "External point spring on every frame, VERTEX:DX,DY,DZ:K (VERTEX a landmark name such as "
+                  "mouth_corner_L or a surface index; target = rest + offset, cm; K in kPa·cm)");
+  sub->add_option("--sphere", a.spheres, "Kinematic sphere collider on every frame, X,Y,Z:RADIUS:K (cm, kPa·cm)");
   sub->add_flag("--json", a.json,
                 "Print a JSON summary: frames, mean_step_ms, p95_step_ms, mean_newton_iters, mean_cg_iters, "
                 "max_rel_residual, nan_frames, inverted_tets_max, device");
@@ -139,6 +201,8 @@ void register_simulate(CLI::App& app) {
     double newton = 0, cg = 0, max_rel = 0;
     int inverted_max = 0, nan_frames = 0, unconverged = 0;
     Controls c;
+    for (const auto& spec : a.springs) c.springs.push_back(parse_spring(spec, rig, model));
+    for (const auto& spec : a.spheres) c.spheres.push_back(parse_sphere(spec));
     for (int f = 0; f < frames; ++f) {
       c.weights.assign(perf.frame(f), perf.frame(f) + perf.names.size());
       const StepStats st = sim->step(c);

@@ -1,0 +1,113 @@
+// facesr simulate and facesr bench sim, end to end through the binary.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "perf/sequence_io.h"
+#include "rig/rig_io.h"
+#include "test_support.h"
+
+using namespace facesr;
+using fixtures::shell_quote;
+namespace fs = std::filesystem;
+
+namespace {
+
+class SimCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("facesr_sim_cli_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    save_rig(fixtures::procedural_rig(), path("p.rig"));
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static std::string path(const std::string& name) { return (dir_ / name).string(); }
+  static std::string q(const std::string& name) { return shell_quote(path(name)); }
+  static fixtures::CliResult run(const std::string& args) { return fixtures::run_cli(args, dir_.string()); }
+  static bool exists_with_prefix(const std::string& stem) {
+    for (const auto& e : fs::directory_iterator(dir_))
+      if (e.path().filename().string().rfind(stem, 0) == 0) return true;
+    return false;
+  }
+  static fs::path dir_;
+};
+fs::path SimCli::dir_;
+
+}  // namespace
+
+TEST_F(SimCli, SimulateWritesSequenceAndJsonSummary) {
+  const auto r = run("simulate --rig " + q("p.rig") + " --res low --builtin smile --frames 8 --out " + q("s.fsq") +
+                     " --json -q");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* key : {"frames", "mean_step_ms", "p95_step_ms", "mean_newton_iters", "mean_cg_iters",
+                          "max_rel_residual", "nan_frames", "inverted_tets_max", "device"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["frames"], 8);
+  EXPECT_EQ(j["nan_frames"], 0);
+  EXPECT_LE(j["max_rel_residual"].get<double>(), 1e-3);
+  EXPECT_EQ(j["units"], "cm");
+  const Sequence s = read_sequence(path("s.fsq"));
+  EXPECT_EQ(s.frames(), 8);
+  EXPECT_EQ(s.header.resolution, "low");
+  EXPECT_EQ(s.header.rig_checksum, rig_checksum(fixtures::procedural_rig()));
+  EXPECT_EQ(int(s.header.num_surface), fixtures::procedural_rig().num_surface_vertices());
+  // The smile ramps up: the last frame's surface differs from the first.
+  double moved = 0;
+  for (size_t i = 0; i < 3 * s.header.num_surface; ++i)
+    moved = std::max(moved, double(std::abs(s.frame_surface(7)[i] - s.frame_surface(0)[i])));
+  EXPECT_GT(moved, 0.01);
+}
+
+TEST_F(SimCli, SimulateCpuReferenceAndExternalForces) {
+  const auto r = run("simulate --rig " + q("p.rig") + " --builtin jaw --frames 3 --cpu --spring mouth_corner_L:1,-0.5,1:50"
+                     " --sphere 4,-2,8:1.5:100 --out " + q("c.fsq") + " --json -q");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(nlohmann::json::parse(r.out)["device"].get<std::string>().find("cpu-reference"), std::string::npos);
+}
+
+TEST_F(SimCli, BadInputsFailCleanlyAndWriteNothing) {
+  struct Case {
+    std::string args, expect;
+  };
+  std::ofstream(path("bad.json")) << R"({"format":"facesr-performance","version":1,"fps":30,
+    "keyframes":[{"time":0,"weights":{"jawOpen":1.5}}]})";
+  const std::vector<Case> cases = {
+      {"--rig " + q("missing.rig") + " --builtin smile", "missing.rig"},
+      {"--rig " + q("p.rig") + " --performance " + q("bad.json"), "jawOpen"},
+      {"--rig " + q("p.rig") + " --builtin smile --res medium", "medium"},
+      {"--rig " + q("p.rig") + " --builtin nosuch", "nosuch"},
+      {"--rig " + q("p.rig") + " --builtin smile --spring mouth_corner_L:1,2:3", "x,y,z"},
+      {"--rig " + q("p.rig") + " --builtin smile --sphere 0,0,0:-1:5", "radius"},
+      {"--rig " + q("p.rig") + " --builtin smile --solver turbo", "turbo"},
+      {"--rig " + q("p.rig") + " --builtin smile --device nosuchdevice", "nosuchdevice"},
+  };
+  for (const auto& c : cases) {
+    const auto r = run("simulate " + c.args + " --out " + q("bad_out.fsq") + " -q");
+    EXPECT_NE(r.status, 0) << c.args;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_FALSE(exists_with_prefix("bad_out")) << c.args;
+  }
+}
+
+TEST_F(SimCli, BenchSimReportsTimingsAndWritesMarkdown) {
+  std::ofstream(path("BENCH.md")) << "# Benchmarks\n\nkept text\n";
+  const auto r = run("bench sim --rig " + q("p.rig") + " --frames 3 --no-sweep --solver realtime --markdown " +
+                     q("BENCH.md") + " --json -q");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* key : {"mean_step_ms", "p95_step_ms", "device", "machine", "date", "opencl", "cpu_reference",
+                          "opencl_over_cpu", "tets"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_GT(j["opencl"]["product_ms"].get<double>(), 0.0);
+  std::ifstream in(path("BENCH.md"));
+  const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(md.find("kept text"), std::string::npos);
+  EXPECT_NE(md.find("LR simulation step"), std::string::npos);
+  EXPECT_NE(md.find("bench-sim-realtime"), std::string::npos);
+}
