@@ -1,15 +1,21 @@
 #!/usr/bin/env bash
-# The main job: install dependencies, build, build the procedural head's rig
-# and print its summary (and the ICT head's rig when the data is beside us).
+# The main job: install dependencies, build, build the face rigs, simulate a
+# performance on the LR lattice (OpenCL) and render a few frames of it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/build.sh
 mkdir -p out
-./build/bin/facesr rig build --source procedural -o out/procedural.rig --preview out/procedural.png
+F=./build/bin/facesr
+$F rig build --source procedural -o out/procedural.rig --preview out/procedural.png
+$F perf write --rig out/procedural.rig --builtin talk -o out/talk.json
+$F simulate --rig out/procedural.rig --res low --performance out/talk.json --out out/procedural_talk.fsq --json
+$F render --rig out/procedural.rig --seq out/procedural_talk.fsq --count 6 --heat -o out/procedural_talk.png
 ICT_DIR="${FACESR_ICT_DIR:-../shared/data/ict-facekit}"
 if [[ -f "$ICT_DIR/generic_neutral_mesh.obj" ]]; then
-  ./build/bin/facesr rig build --source "$ICT_DIR" -o out/ict.rig --preview out/ict.png
+  $F rig build --source "$ICT_DIR" -o out/ict.rig --preview out/ict.png
+  $F simulate --rig out/ict.rig --res low --builtin talk --out out/ict_talk.fsq --json
+  $F render --rig out/ict.rig --seq out/ict_talk.fsq --count 6 --heat -o out/ict_talk.png --gltf out/ict_talk.gltf
 else
   echo "demo: ICT FaceKit data not found at $ICT_DIR; skipping the ICT rig" >&2
 fi

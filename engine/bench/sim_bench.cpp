@@ -166,12 +166,16 @@ std::string sim_bench_markdown(const nlohmann::json& r) {
     md << "| tets | nodes | OpenCL ms/frame | CPU ms/frame | OpenCL product ms | CPU product ms | CG its/frame |\n";
     md << "|---|---|---|---|---|---|---|\n";
     for (const auto& e : r["sizes"]) {
-      const bool cpu = e.contains("cpu_reference");
-      std::snprintf(buf, sizeof buf, "| %d | %d | %.1f | %s | %.3f | %s | %.0f |\n", e["tets"].get<int>(),
-                    e["nodes"].get<int>(), e["opencl"]["mean_step_ms"].get<double>(),
-                    cpu ? std::to_string(e["cpu_reference"]["mean_step_ms"].get<double>()).substr(0, 6).c_str() : "-",
-                    e["opencl"]["product_ms"].get<double>(),
-                    cpu ? std::to_string(e["cpu_reference"]["product_ms"].get<double>()).substr(0, 6).c_str() : "-",
+      auto cell = [&](const char* backend, const char* key, const char* fmt) {
+        if (!e.contains(backend)) return std::string("-");
+        char b[32];
+        std::snprintf(b, sizeof b, fmt, e[backend][key].get<double>());
+        return std::string(b);
+      };
+      std::snprintf(buf, sizeof buf, "| %d | %d | %s | %s | %s | %s | %.0f |\n", e["tets"].get<int>(),
+                    e["nodes"].get<int>(), cell("opencl", "mean_step_ms", "%.1f").c_str(),
+                    cell("cpu_reference", "mean_step_ms", "%.1f").c_str(),
+                    cell("opencl", "product_ms", "%.3f").c_str(), cell("cpu_reference", "product_ms", "%.3f").c_str(),
                     e["opencl"]["mean_cg_iters"].get<double>());
       md << buf;
     }
