@@ -242,6 +242,29 @@ __kernel void gather_diag_inverse(const uint N, __global const int* inc_offset, 
 
 // ---- CG vector operations (n = 3 × nodes) ----
 
+// Work-group sums in local memory (power-of-two local size); every
+// work-item of the group must call them. Element 0 holds the result.
+void group_sum(__local fsr_real* s1) {
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
+    if (get_local_id(0) < stride) s1[get_local_id(0)] += s1[get_local_id(0) + stride];
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+}
+
+void group_sum2(__local fsr_real* s1, __local fsr_real* s2) {
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
+    const uint lid = get_local_id(0);
+    if (lid < stride) {
+      s1[lid] += s1[lid + stride];
+      s2[lid] += s2[lid + stride];
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+}
+
+
 __kernel void precondition(const uint N, __global const fsr_real* Minv, __global const fsr_real* r,
                            __global fsr_real* z) {
   const uint v = get_global_id(0);
@@ -264,14 +287,7 @@ __kernel void dot2_partial(const uint n, __global const fsr_real* a, __global co
   }
   s1[lid] = acc1;
   s2[lid] = acc2;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
-    if (lid < stride) {
-      s1[lid] += s1[lid + stride];
-      s2[lid] += s2[lid + stride];
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
-  }
+  group_sum2(s1, s2);
   if (lid == 0) {
     partial[2 * get_group_id(0)] = s1[0];
     partial[2 * get_group_id(0) + 1] = s2[0];
@@ -284,11 +300,7 @@ __kernel void sum_partial(const uint n, __global const fsr_real* a, __global fsr
   fsr_real acc = 0;
   for (uint i = get_global_id(0); i < n; i += get_global_size(0)) acc += a[i];
   s1[lid] = acc;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
-    if (lid < stride) s1[lid] += s1[lid + stride];
-    barrier(CLK_LOCAL_MEM_FENCE);
-  }
+  group_sum(s1);
   if (lid == 0) partial[get_group_id(0)] = s1[0];
 }
 
@@ -399,11 +411,7 @@ __kernel void gather_dot(const uint N, __global const int* inc_offset, __global 
     acc = p[3 * v] * s0 + p[3 * v + 1] * sa + p[3 * v + 2] * sb;
   }
   s1[lid] = acc;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
-    if (lid < stride) s1[lid] += s1[lid + stride];
-    barrier(CLK_LOCAL_MEM_FENCE);
-  }
+  group_sum(s1);
   if (lid == 0) partial[get_group_id(0)] = s1[0];
 }
 
@@ -431,14 +439,7 @@ __kernel void cg_update(const uint N, const fsr_real alpha, __global const fsr_r
   }
   s1[lid] = rr;
   s2[lid] = rz;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (uint stride = get_local_size(0) / 2; stride > 0; stride /= 2) {
-    if (lid < stride) {
-      s1[lid] += s1[lid + stride];
-      s2[lid] += s2[lid + stride];
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
-  }
+  group_sum2(s1, s2);
   if (lid == 0) {
     partial[2 * get_group_id(0)] = s1[0];
     partial[2 * get_group_id(0) + 1] = s2[0];

@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "perf/performance.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace facesr;
@@ -45,19 +46,7 @@ json doc(double fps, json keyframes) {
   return {{"format", "facesr-performance"}, {"version", 1}, {"name", "t"}, {"fps", fps}, {"keyframes", keyframes}};
 }
 
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected facesr::Error, got std::exception: " << e.what();
-    return {};
-  }
-  ADD_FAILURE() << "expected facesr::Error, nothing thrown";
-  return {};
-}
+using fixtures::error_of;
 
 class PerformanceFiles : public ::testing::Test {
  protected:

@@ -18,6 +18,7 @@
 #include "core/error.h"
 #include "mesh/obj_io.h"
 #include "rig/ict_head.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace facesr;
@@ -44,20 +45,7 @@ std::string read_text(const fs::path& p) {
   return ss.str();
 }
 
-// Runs f and returns the facesr::Error message (fails the test if none thrown).
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected facesr::Error, got std::exception: " << e.what();
-    return {};
-  }
-  ADD_FAILURE() << "expected facesr::Error, nothing thrown";
-  return {};
-}
+using fixtures::error_of;
 
 // FaceKit layout constants (see engine/rig/ict_head.cpp).
 constexpr int kSkinVerts = 14062;   // vertices 0..14061: face, head, mouth, eye sockets

@@ -14,25 +14,14 @@
 
 #include "core/error.h"
 #include "perf/sequence_io.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace facesr;
 
 namespace {
 
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected facesr::Error, got std::exception: " << e.what();
-    return {};
-  }
-  ADD_FAILURE() << "expected facesr::Error, nothing thrown";
-  return {};
-}
+using fixtures::error_of;
 
 #define EXPECT_HAS(msg, text) EXPECT_NE((msg).find(text), std::string::npos) << (msg)
 

@@ -1,7 +1,12 @@
 #pragma once
 // Shared fixtures: the coarse procedural rig (built once per test binary) and
 // the location of the ICT FaceKit data.
+#include <gtest/gtest.h>
+
+#include <exception>
 #include <string>
+
+#include "core/error.h"
 
 #include "rig/rig.h"
 #include "rig/rig_build.h"
@@ -26,5 +31,24 @@ struct CliResult {
 // capturing stdout and stderr through files in `scratch_dir`.
 CliResult run_cli(const std::string& args, const std::string& scratch_dir);
 std::string shell_quote(const std::string& s);
+
+}  // namespace facesr::fixtures
+
+namespace facesr::fixtures {
+
+// Runs f and returns the facesr::Error message (fails the test if none thrown).
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected facesr::Error, got std::exception: " << e.what();
+    return {};
+  }
+  ADD_FAILURE() << "expected facesr::Error, nothing thrown";
+  return {};
+}
 
 }  // namespace facesr::fixtures
