@@ -15,16 +15,14 @@
 
 #include "perf/sequence_io.h"
 #include "rig/rig_io.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace facesr;
 
 namespace {
 
-struct CliResult {
-  int status = -1;
-  std::string out, err;
-};
+using fixtures::CliResult;
 
 std::string quote(const std::string& s) {
   std::string q = "'";
@@ -98,16 +96,7 @@ class PerfRenderCli : public ::testing::Test {
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
-  static CliResult run(const std::string& args) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd = quote(FACESR_CLI) + " " + args + " >" + quote(out.string()) + " 2>" + quote(err.string());
-    const int raw = std::system(cmd.c_str());
-    CliResult r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = read_text(out);
-    r.err = read_text(err);
-    return r;
-  }
+  static CliResult run(const std::string& args) { return fixtures::run_cli(args, dir_.string()); }
   static std::string p(const std::string& name) { return quote((dir_ / name).string()); }
   static std::string path(const std::string& name) { return (dir_ / name).string(); }
   // Nothing named `stem` or `stem.tmp...` exists.

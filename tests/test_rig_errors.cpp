@@ -222,10 +222,7 @@ TEST_F(RigErrors, NanInBlendshapeNamesFileAndLine) {
 
 // ---------------------------------------------------------------------------
 
-struct CliResult {
-  int status = -1;
-  std::string out, err;
-};
+using fixtures::CliResult;
 
 std::string quote(const std::string& s) {
   std::string q = "'";
@@ -238,16 +235,7 @@ class CliErrors : public ::testing::Test {
   static void SetUpTestSuite() { dir_ = make_temp_dir("cli"); }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
-  static CliResult run(const std::string& args) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd = quote(FACESR_CLI) + " " + args + " >" + quote(out.string()) + " 2>" + quote(err.string());
-    const int raw = std::system(cmd.c_str());
-    CliResult r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = read_text(out);
-    r.err = read_text(err);
-    return r;
-  }
+  static CliResult run(const std::string& args) { return fixtures::run_cli(args, dir_.string()); }
 
   // The coarse procedural rig (~4 s), built on first use and reused by the
   // suite's tests (lazily, so tests run one per process build it only when

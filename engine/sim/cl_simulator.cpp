@@ -214,7 +214,7 @@ class ClSimulator final : public Simulator {
     hessian(x_);
     ctx_.finish();
     const auto t0 = std::chrono::steady_clock::now();
-    for (int i = 0; i < reps; ++i) product(p_, q_);
+    for (int i = 0; i < reps; ++i) product_dot(p_, q_);  // product, gather and p·q: one CG iteration's K·p
     ctx_.finish();
     return 1e3 * seconds_since(t0) / reps;
   }
@@ -294,11 +294,6 @@ class ClSimulator final : public Simulator {
     k("gather_diag_inverse").args(N, cur_->offset, cur_->slot, bone_, dslots_, Minv_).run_1d(N, local_);
   }
 
-  void product(const Buffer<Real>& p, Buffer<Real>& q) {
-    const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes;
-    k("product_all").args(T, S, tets_, p, Dminv_, vol_, C_, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_).run_1d(T + S, local_);
-    k("gather_nodes").args(N, cur_->offset, cur_->slot, bone_, slots_, q).run_1d(N, local_);
-  }
 
   // q = K p over free nodes; returns p·q.
   double product_dot(const Buffer<Real>& p, Buffer<Real>& q) {
