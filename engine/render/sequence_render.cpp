@@ -8,6 +8,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "render/heat_legend.h"
 #include "render/mesh_raster.h"
 #include "rig/rig_preview.h"
 
@@ -19,19 +20,6 @@ constexpr int kMaxPanels = 1024;
 const Rgb kBackground{120, 120, 120};
 const Rgb kInk{20, 20, 24};
 const Rgb kGridLine{90, 90, 90};
-
-// draw_text with '=' drawn too: the 5x7 font has no '=' and labels read "t=1.00s".
-void draw_label(Image& img, int x, int y, const std::string& text, Rgb c, int fs) {
-  std::string rest = text;
-  for (size_t i = 0; i < rest.size(); ++i)
-    if (rest[i] == '=') {
-      const int gx = x + int(i) * 6 * fs;
-      img.fill_rect(gx, y + 2 * fs, 5 * fs, fs, c);
-      img.fill_rect(gx, y + 4 * fs, 5 * fs, fs, c);
-      rest[i] = ' ';
-    }
-  draw_text(img, x, y, rest, c, fs);
-}
 
 std::string format(const char* fmt, double v) {
   char buf[64];
@@ -62,18 +50,6 @@ void validate(const Rig& rig, const Sequence& seq, const std::vector<int>& frame
   require(opt.tile_height == 0 || (opt.tile_height >= 64 && opt.tile_height <= 4096),
           who + "tile height " + std::to_string(opt.tile_height) + " is outside [64, 4096] (or 0 for automatic)");
   require(opt.columns >= 0, who + "columns must not be negative");
-}
-
-void draw_heat_legend(Image& img, int y0, int fs, double max_cm) {
-  const int margin = 4 * fs, th = text_height(fs);
-  draw_text(img, margin, y0 + margin, "displacement from frame 0 (cm)", kInk, fs);
-  const int bar_y = y0 + margin + th + 2 * fs, bar_h = th + fs;
-  const int bar_w = std::max(16, std::min(img.width() - 2 * margin, 200 * fs));
-  for (int i = 0; i < bar_w; ++i) img.fill_rect(margin + i, bar_y, 1, bar_h, heat_colour(double(i) / (bar_w - 1)));
-  const int label_y = bar_y + bar_h + fs;
-  draw_text(img, margin, label_y, "0 cm", kInk, fs);
-  const std::string hi = format("%.3g cm", max_cm);
-  draw_text(img, std::max(margin, margin + bar_w - text_width(hi, fs)), label_y, hi, kInk, fs);
 }
 
 }  // namespace
@@ -136,7 +112,7 @@ Image render_sequence_image(const Rig& rig, const Sequence& seq, const std::vect
       opt.columns > 0 ? std::min(opt.columns, n) : std::clamp(int(std::lround(std::sqrt(double(n) * th / tw))), 1, n);
   const int rows = (n + cols - 1) / cols;
   const int title_h = text_height(fs) + 6 * fs;
-  const int legend_h = opt.heat ? 3 * text_height(fs) + 12 * fs : 0;
+  const int legend_h = opt.heat ? heat_legend_height(fs) : 0;
   const long W = long(cols) * tw, H = title_h + long(rows) * th + legend_h;
   require(W <= kMaxSide && H <= kMaxSide, "render: the image would be " + std::to_string(W) + " x " +
                                               std::to_string(H) + " pixels, more than " + std::to_string(kMaxSide) +
@@ -170,7 +146,7 @@ Image render_sequence_image(const Rig& rig, const Sequence& seq, const std::vect
     progress.update(i + 1);
   }
   progress.finish();
-  if (opt.heat) draw_heat_legend(img, title_h + rows * th, fs, max_cm);
+  if (opt.heat) draw_heat_legend(img, title_h + rows * th, fs, max_cm, "displacement from frame 0 (cm)", kInk);
   if (summary) *summary = RenderSummary{int(W), int(H), max_cm};
   return img;
 }

@@ -1,0 +1,92 @@
+#include <cctype>
+#include <cstring>
+
+#include "core/binary_io.h"
+#include "core/checksum.h"
+#include "core/error.h"
+#include "dataset/dataset_format.h"
+#include "dataset/dataset_io.h"
+
+namespace facesr {
+namespace {
+
+std::string printable(const char* p, size_t n) {
+  std::string s;
+  for (size_t i = 0; i < n; ++i) s += std::isprint(static_cast<unsigned char>(p[i])) ? p[i] : '?';
+  return s;
+}
+
+// Magic and version, from the first 12 bytes; says what the file is when it
+// is not a finished dataset sequence.
+void check_magic_and_version(const char* magic, uint64_t file_size, uint32_t version, const std::string& path) {
+  const size_t n = fsd::kMagic.size();
+  const std::string too_short =
+      path + ": truncated (" + std::to_string(file_size) + " bytes, too short for a dataset file)";
+  require(file_size >= n, too_short);
+  require(std::memcmp(magic, fsd::kPartialMagic.data(), n) != 0,
+          path + ": is an unfinished partial dataset file (the writer never committed it)");
+  require(std::memcmp(magic, fsd::kMagic.data(), n) == 0,
+          path + ": not a facesr dataset file (bad magic '" + printable(magic, n) + "', expected 'FACESRDS')");
+  require(file_size >= n + sizeof version, too_short);
+  require(version == fsd::kVersion, path + ": unsupported dataset format version " + std::to_string(version) +
+                                        " (this build reads version " + std::to_string(fsd::kVersion) + ")");
+}
+
+}  // namespace
+
+DatasetSequence read_dataset_sequence(const std::string& path) {
+  const std::vector<uint8_t> bytes = read_file_bytes(path);
+  uint32_t version = 0;
+  if (bytes.size() >= 12) std::memcpy(&version, bytes.data() + 8, sizeof version);
+  check_magic_and_version(reinterpret_cast<const char*>(bytes.data()), bytes.size(), version, path);
+
+  ByteReader r(bytes.data(), bytes.size(), path);
+  r.get<std::array<char, 8>>("magic");
+  r.get<uint32_t>("format version");
+  DatasetSequence seq;
+  seq.header = fsd::get_header(r, true);
+  const DatasetHeader& h = seq.header;
+  fsd::validate_header(h, path);
+
+  // Sizes before the checksum, so a cut-off file is reported as truncated
+  // rather than as corrupt.
+  const uint64_t per_frame = fsd::frame_bytes(h), available = r.remaining();
+  const uint64_t frames_fit = available >= 8 ? (available - 8) / per_frame : 0;
+  require(h.num_frames >= 1, path + ": has no frames");
+  require(h.num_frames <= frames_fit, path + ": truncated: the header promises " + std::to_string(h.num_frames) +
+                                          " frames of " + std::to_string(per_frame) + " bytes, but only " +
+                                          std::to_string(frames_fit) + " fit in the file's " +
+                                          std::to_string(bytes.size()) + " bytes");
+  const uint64_t expected = r.position() + h.num_frames * per_frame + 8;
+  require(bytes.size() == expected, path + ": " + std::to_string(bytes.size() - expected) +
+                                        " unexpected trailing bytes after the checksum (the file has " +
+                                        std::to_string(bytes.size()) + ", expected " + std::to_string(expected) + ")");
+  uint64_t stored;
+  std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
+  const uint64_t computed = fnv1a64(bytes.data(), bytes.size() - 8);
+  require(stored == computed, path + ": checksum mismatch (stored " + fsd::hex(stored) + ", computed " +
+                                  fsd::hex(computed) + "): the file is corrupt");
+
+  seq.frames.resize(h.num_frames);
+  const uint8_t* p = bytes.data() + r.position();
+  for (uint64_t f = 0; f < h.num_frames; ++f, p += per_frame) {
+    fsd::decode_frame(h, p, seq.frames[f]);
+    fsd::validate_frame(h, seq.frames[f], path + ": frame " + std::to_string(f), f ? &seq.frames[f - 1].time : nullptr);
+  }
+  return seq;
+}
+
+DatasetHeader read_dataset_header(const std::string& path) {
+  fsd::FileReader r(path);
+  std::array<char, 8> magic{};
+  const uint64_t have = std::min<uint64_t>(r.size(), magic.size());
+  r.read(magic.data(), have, "magic");
+  const uint32_t version = r.remaining() >= 4 ? r.get<uint32_t>("format version") : 0;
+  check_magic_and_version(magic.data(), r.size(), version, path);
+  DatasetHeader h = fsd::get_header(r, true);
+  fsd::validate_header(h, path);
+  require(h.num_frames >= 1, path + ": has no frames");
+  return h;
+}
+
+}  // namespace facesr
