@@ -4,6 +4,7 @@
 
 #include "cli/commands.h"
 #include "core/error.h"
+#include "perf/livelink_csv.h"
 #include "perf/performance.h"
 #include "rig/rig_io.h"
 
@@ -15,35 +16,48 @@ struct PerfArgs {
   bool json = false, quiet = false;
 };
 
-Performance load(const PerfArgs& a, const Rig& rig) {
+// A Live Link CSV also yields its column report; `csv` stays empty otherwise.
+// The report goes to stderr because unknown columns silently losing motion
+// is the usual surprise with a new capture.
+Performance load(const PerfArgs& a, const Rig& rig, nlohmann::json& csv) {
   require(a.performance.empty() != a.builtin.empty(), "give exactly one of --performance FILE and --builtin NAME");
-  return a.builtin.empty() ? load_performance_json(a.performance, rig.blendshape_names)
-                           : builtin_performance(a.builtin, rig.blendshape_names);
+  if (!a.builtin.empty()) return builtin_performance(a.builtin, rig.blendshape_names);
+  LiveLinkReport report;
+  report.rows = -1;  // stays -1 unless the file was a CSV
+  Performance p = load_performance(a.performance, rig.blendshape_names, &report);
+  if (report.rows >= 0) {
+    csv = livelink_report_json(report);
+    if (!a.quiet)
+      std::fprintf(stderr, "[perf] %s: %s\n", a.performance.c_str(), livelink_report_summary(report).c_str());
+  }
+  return p;
 }
 
 void show(const PerfArgs& a) {
   const Rig rig = load_rig(a.rig);
-  const Performance p = load(a, rig);
+  nlohmann::json csv;
+  const Performance p = load(a, rig, csv);
   const std::vector<float> mx = max_weights(p);
   // Only the shapes the performance moves; a full ARKit list is mostly zeros.
   nlohmann::json used = nlohmann::json::object();
   for (size_t i = 0; i < mx.size(); ++i)
     if (mx[i] > 0) used[p.names[i]] = mx[i];
   if (a.json) {
-    std::printf("%s\n", nlohmann::json({{"name", p.name},
-                                        {"source", a.builtin.empty() ? a.performance : "builtin:" + a.builtin},
-                                        {"frames", p.frames()},
-                                        {"fps", p.fps},
-                                        {"start_s", p.start_time},
-                                        {"duration_s", p.duration()},
-                                        {"shapes", p.names.size()},
-                                        {"max_weight", used}})
-                            .dump(2)
-                            .c_str());
+    nlohmann::json j = {{"name", p.name},
+                        {"source", a.builtin.empty() ? a.performance : "builtin:" + a.builtin},
+                        {"frames", p.frames()},
+                        {"fps", p.fps},
+                        {"start_s", p.start_time},
+                        {"duration_s", p.duration()},
+                        {"shapes", p.names.size()},
+                        {"explicit_jaw", p.has_jaw},
+                        {"max_weight", used}};
+    if (!csv.is_null()) j["csv"] = csv;
+    std::printf("%s\n", j.dump(2).c_str());
     return;
   }
-  std::printf("performance '%s': %d frames at %g fps, %.3f s (from t = %g s)\n", p.name.c_str(), p.frames(), p.fps,
-              p.duration(), p.start_time);
+  std::printf("performance '%s': %d frames at %g fps, %.3f s (from t = %g s)%s\n", p.name.c_str(), p.frames(), p.fps,
+              p.duration(), p.start_time, p.has_jaw ? ", explicit jaw transform" : "");
   std::printf("  %zu of the rig's %zu shapes move; max weight:\n", used.size(), p.names.size());
   for (const auto& [name, w] : used.items()) std::printf("    %-22s %.3f\n", name.c_str(), w.get<double>());
 }
@@ -53,15 +67,17 @@ void write(const PerfArgs& a) {
   require(parent.empty() || std::filesystem::is_directory(parent),
           "output folder '" + parent.string() + "' does not exist");
   const Rig rig = load_rig(a.rig);
-  const Performance p = builtin_performance(a.builtin, rig.blendshape_names);
+  nlohmann::json csv;
+  const Performance p = load(a, rig, csv);
   save_performance_json(p, a.out);
   if (!a.quiet)
     std::fprintf(stderr, "[perf] wrote %s ('%s', %d frames at %g fps)\n", a.out.c_str(), p.name.c_str(), p.frames(),
                  p.fps);
-  if (a.json)
-    std::printf(
-        "%s\n",
-        nlohmann::json({{"path", a.out}, {"name", p.name}, {"frames", p.frames()}, {"fps", p.fps}}).dump(2).c_str());
+  if (a.json) {
+    nlohmann::json j = {{"path", a.out}, {"name", p.name}, {"frames", p.frames()}, {"fps", p.fps}};
+    if (!csv.is_null()) j["csv"] = csv;
+    std::printf("%s\n", j.dump(2).c_str());
+  }
 }
 
 std::string builtin_list() {
@@ -79,16 +95,21 @@ void register_perf(CLI::App& app) {
   static PerfArgs s;
   auto* show_cmd = perf->add_subcommand("show", "Load and validate a performance; print frames, duration, weights");
   show_cmd->add_option("--rig", s.rig, "Rig file (its blendshape names)")->required();
-  auto* file = show_cmd->add_option("--performance", s.performance, "Keyframe JSON file");
+  auto* file = show_cmd->add_option("--performance", s.performance,
+                                    "Keyframe JSON (.json) or Live Link Face capture (.csv, 60 fps)");
   auto* builtin = show_cmd->add_option("--builtin", s.builtin, "Built-in performance: " + builtin_list());
   file->excludes(builtin);
   show_cmd->add_flag("--json", s.json, "JSON summary on stdout");
   add_action(show_cmd, [] { show(s); });
 
   static PerfArgs w;
-  auto* write_cmd = perf->add_subcommand("write", "Save a built-in performance as keyframe JSON");
+  auto* write_cmd = perf->add_subcommand(
+      "write", "Save a built-in performance, or a converted .json/.csv performance, as keyframe JSON");
   write_cmd->add_option("--rig", w.rig, "Rig file (its blendshape names)")->required();
-  write_cmd->add_option("--builtin", w.builtin, "Built-in performance: " + builtin_list())->required();
+  auto* wfile = write_cmd->add_option(
+      "--performance", w.performance, "Keyframe JSON (.json) or Live Link Face capture (.csv, 60 fps; resampled to 30)");
+  auto* wbuiltin = write_cmd->add_option("--builtin", w.builtin, "Built-in performance: " + builtin_list());
+  wfile->excludes(wbuiltin);
   write_cmd->add_option("--out,-o", w.out, "Output JSON file")->required();
   write_cmd->add_flag("--json", w.json, "JSON summary on stdout");
   write_cmd->add_flag("--quiet,-q", w.quiet, "No progress output");

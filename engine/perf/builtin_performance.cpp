@@ -1,6 +1,7 @@
 // Built-in performances for demos, tests and dataset generation when no
 // captured performance is at hand. All are sampled at 30 fps and start from
 // the neutral face (every weight 0 at t = 0), so a simulation can start at rest.
+// The emotion takes live in themed_performance.cpp.
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -9,6 +10,7 @@
 #include "core/checksum.h"
 #include "core/error.h"
 #include "perf/performance.h"
+#include "perf/themed_performance.h"
 
 namespace facesr {
 namespace {
@@ -118,7 +120,14 @@ Performance random(const std::vector<std::string>& names) {
 
 const std::vector<std::pair<std::string, Performance (*)(const std::vector<std::string>&)>>& table() {
   static const std::vector<std::pair<std::string, Performance (*)(const std::vector<std::string>&)>> t = {
-      {"smile", smile}, {"jaw", jaw}, {"talk", talk}, {"random", random}};
+      {"smile", smile},
+      {"jaw", jaw},
+      {"talk", talk},
+      {"random", random},
+      {"amazement", amazement_performance},
+      {"anger", anger_performance},
+      {"fear", fear_performance},
+      {"pain", pain_performance}};
   return t;
 }
 

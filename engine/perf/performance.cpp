@@ -20,6 +20,11 @@ constexpr int kVersion = 1;
 constexpr double kMaxFps = 1000;
 // A day at 30 fps; far beyond any real take, small enough to catch a typo in a time.
 constexpr double kMaxFrames = 3e6;
+// Bounds on an explicit jaw transform: beyond any real jaw (about 30-35
+// degrees of opening, a few mm of protrusion), so they only catch radians
+// passed as degrees or millimetres as centimetres.
+constexpr double kMaxJawDeg = 60;
+constexpr double kMaxJawCm = 5;
 
 std::string lower(std::string s) {
   for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -54,8 +59,40 @@ double number_field(const nlohmann::json& j, const char* key, const std::string&
 
 struct Keyframe {
   double time = 0;
-  std::vector<float> w;  // rig order; unlisted shapes are 0
+  std::vector<float> w;    // rig order; unlisted shapes are 0
+  std::vector<float> jaw;  // empty, or rotation (degrees) and translation (cm)
 };
+
+// One "jaw" member: [x, y, z], finite; a missing member is zero.
+void parse_jaw_vector(const nlohmann::json& jaw, const char* key, const std::string& where, double bound,
+                      const char* unit, float* out) {
+  if (!jaw.contains(key)) return;
+  const auto& a = jaw[key];
+  const std::string what = where + ": jaw '" + key + "'";
+  require(a.is_array() && a.size() == 3, what + " is not an array of 3 numbers (got " + a.dump() + ")");
+  double norm2 = 0;
+  for (int i = 0; i < 3; ++i) {
+    require(a[i].is_number(), what + "[" + std::to_string(i) + "] is not a number (got " + a[i].dump() + ")");
+    const double v = a[i].get<double>();
+    require(std::isfinite(v), what + "[" + std::to_string(i) + "] is " + number_text(v) + " (must be finite)");
+    out[i] = float(v);
+    norm2 += v * v;
+  }
+  require(std::sqrt(norm2) <= bound, what + " has length " + number_text(std::sqrt(norm2)) + " " + unit +
+                                         ", more than " + number_text(bound) + " " + unit);
+}
+
+std::vector<float> parse_jaw(const nlohmann::json& jaw, const std::string& where) {
+  require(jaw.is_object(),
+          where + ": 'jaw' is not an object {\"rotation_deg\": [x, y, z], \"translation_cm\": [x, y, z]}");
+  for (const auto& [key, value] : jaw.items())
+    require(key == "rotation_deg" || key == "translation_cm",
+            where + ": 'jaw' has unknown member '" + key + "' (expected rotation_deg, translation_cm)");
+  std::vector<float> out(6, 0.0f);
+  parse_jaw_vector(jaw, "rotation_deg", where, kMaxJawDeg, "degrees", out.data());
+  parse_jaw_vector(jaw, "translation_cm", where, kMaxJawCm, "cm", out.data() + 3);
+  return out;
+}
 
 Keyframe parse_keyframe(const nlohmann::json& k, size_t index, const std::map<std::string, size_t>& slot,
                         const std::vector<std::string>& rig_names, const std::string& context) {
@@ -78,28 +115,29 @@ Keyframe parse_keyframe(const nlohmann::json& k, size_t index, const std::map<st
     require(v >= 0 && v <= 1, wname + " is " + number_text(v) + ", outside [0, 1]");
     key.w[it->second] = float(v);
   }
+  if (k.contains("jaw")) key.jaw = parse_jaw(k["jaw"], where);
   return key;
 }
 
-// Weights at time t by linear interpolation; `k` is the keyframe at or before t.
-void sample(const std::vector<Keyframe>& keys, size_t k, double t, float* out) {
-  const size_t n = keys[k].w.size();
-  if (k + 1 >= keys.size()) {
-    std::copy(keys[k].w.begin(), keys[k].w.end(), out);
-    return;
-  }
+void lerp(const std::vector<float>& a, const std::vector<float>& b, double alpha, float* out) {
+  for (size_t i = 0; i < a.size(); ++i) out[i] = float(a[i] + alpha * (double(b[i]) - a[i]));
+}
+
+// Weights (and jaw, when `jaw_out` is given) at time t by linear
+// interpolation; `k` is the keyframe at or before t.
+void sample(const std::vector<Keyframe>& keys, size_t k, double t, float* out, float* jaw_out) {
+  auto copy = [&](const Keyframe& key) {
+    std::copy(key.w.begin(), key.w.end(), out);
+    if (jaw_out) std::copy(key.jaw.begin(), key.jaw.end(), jaw_out);
+  };
+  if (k + 1 >= keys.size()) return copy(keys[k]);
   double alpha = (t - keys[k].time) / (keys[k + 1].time - keys[k].time);
   // Snap times that hit a keyframe up to rounding, so a saved performance
   // reloads bit for bit and zero weights stay exactly zero.
-  if (alpha <= 1e-9) alpha = 0;
-  if (alpha >= 1 - 1e-9) {
-    std::copy(keys[k + 1].w.begin(), keys[k + 1].w.end(), out);
-    return;
-  }
-  for (size_t i = 0; i < n; ++i) {
-    const double a = keys[k].w[i], b = keys[k + 1].w[i];
-    out[i] = float(a + alpha * (b - a));
-  }
+  if (alpha <= 1e-9) return copy(keys[k]);
+  if (alpha >= 1 - 1e-9) return copy(keys[k + 1]);
+  lerp(keys[k].w, keys[k + 1].w, alpha, out);
+  if (jaw_out) lerp(keys[k].jaw, keys[k + 1].jaw, alpha, jaw_out);
 }
 
 // Shortest decimal that reads back as the same float, so files say 0.3, not
@@ -147,7 +185,12 @@ Performance performance_from_json(const nlohmann::json& j, const std::vector<std
       throw Error(context + ": keyframe " + std::to_string(i) + ": time " + number_text(keys[i].time) +
                   " is not after keyframe " + std::to_string(i - 1) + "'s time " + number_text(keys[i - 1].time) +
                   " (times must be strictly increasing)");
+    if (i > 0 && keys[i].jaw.empty() != keys[0].jaw.empty())
+      throw Error(context + ": keyframe " + std::to_string(i) + (keys[i].jaw.empty() ? " has no" : " has a") +
+                  " 'jaw' but keyframe 0 " + (keys[0].jaw.empty() ? "has none" : "has one") +
+                  " (either every keyframe has 'jaw' or none does)");
   }
+  perf.has_jaw = !keys[0].jaw.empty();
 
   perf.start_time = keys.front().time;
   const double span = (keys.back().time - keys.front().time) * perf.fps;
@@ -156,12 +199,13 @@ Performance performance_from_json(const nlohmann::json& j, const std::vector<std
                                  " fps");
   const int frames = int(std::floor(span + 1e-6)) + 1;
   perf.weights.assign(size_t(frames) * rig_names.size(), 0.0f);
-  if (rig_names.empty()) return perf;
+  if (perf.has_jaw) perf.jaw.assign(size_t(frames) * 6, 0.0f);
   size_t k = 0;
   for (int f = 0; f < frames; ++f) {
     const double t = std::min(perf.time(f), keys.back().time);
     while (k + 1 < keys.size() && keys[k + 1].time <= t) ++k;
-    sample(keys, k, t, perf.weights.data() + size_t(f) * rig_names.size());
+    sample(keys, k, t, perf.weights.data() + size_t(f) * rig_names.size(),
+           perf.has_jaw ? perf.jaw.data() + size_t(f) * 6 : nullptr);
   }
   return perf;
 }
@@ -186,12 +230,21 @@ nlohmann::json performance_to_json(const Performance& perf) {
   require(!perf.names.empty() && perf.weights.size() % perf.names.size() == 0 && perf.frames() > 0,
           "performance '" + perf.name + "': has " + std::to_string(perf.weights.size()) + " weights for " +
               std::to_string(perf.names.size()) + " shapes (need a whole number of frames, at least 1)");
+  require(!perf.has_jaw || perf.jaw.size() == size_t(perf.frames()) * 6,
+          "performance '" + perf.name + "': has " + std::to_string(perf.jaw.size()) + " jaw values for " +
+              std::to_string(perf.frames()) + " frames (need 6 per frame)");
   nlohmann::json keyframes = nlohmann::json::array();
   for (int f = 0; f < perf.frames(); ++f) {
     nlohmann::json w = nlohmann::json::object();
     const float* row = perf.frame(f);
     for (size_t i = 0; i < perf.names.size(); ++i) w[perf.names[i]] = shortest_float(row[i]);
-    keyframes.push_back({{"time", perf.time(f)}, {"weights", std::move(w)}});
+    nlohmann::json key = {{"time", perf.time(f)}, {"weights", std::move(w)}};
+    if (perf.has_jaw) {
+      const float* j = perf.jaw_frame(f);
+      key["jaw"] = {{"rotation_deg", {shortest_float(j[0]), shortest_float(j[1]), shortest_float(j[2])}},
+                    {"translation_cm", {shortest_float(j[3]), shortest_float(j[4]), shortest_float(j[5])}}};
+    }
+    keyframes.push_back(std::move(key));
   }
   return {{"format", kFormat},
           {"version", kVersion},

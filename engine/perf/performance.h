@@ -20,14 +20,26 @@
 //   fps        required, in (0, 1000]
 //   keyframes  required, at least one; "time" in seconds, finite and strictly
 //              increasing; "weights" maps rig blendshape names to [0, 1].
+//   jaw        optional per keyframe: an explicit rigid jaw transform,
+//                "jaw": {"rotation_deg": [rx, ry, rz], "translation_cm": [tx, ty, tz]}
+//              a rotation vector (axis × angle in degrees, |r| <= 60) about
+//              the rig's jaw pivot, then a translation (|t| <= 5 cm), both in
+//              the rig's rest frame; a missing member is zero. Either every
+//              keyframe has "jaw" or none does. Added within version 1: files
+//              without it are unchanged and mean "the jaw follows the jaw
+//              blendshapes".
 //
 // Sampling: frame f lies at t = t_first + f / fps, for every such t up to the
 // last keyframe's time inclusive (a last keyframe off the frame grid is not
 // sampled itself). Weights are linearly interpolated between the two
 // keyframes around t. A blendshape not listed in a keyframe is 0 at that
 // keyframe (it does not hold its previous value), so keyframes can list only
-// the shapes they move; shapes never listed are 0 throughout.
+// the shapes they move; shapes never listed are 0 throughout. The jaw's six
+// numbers are interpolated component-wise the same way (for rotation vectors
+// this is exact about a fixed axis and close enough between nearby keyframes).
 namespace facesr {
+
+struct LiveLinkReport;  // perf/livelink_csv.h
 
 struct Performance {
   std::string name;
@@ -35,11 +47,17 @@ struct Performance {
   double start_time = 0;           // seconds, time of frame 0 (the first keyframe's time)
   std::vector<std::string> names;  // the rig's blendshape order
   std::vector<float> weights;      // frames × names.size(), row-major
+  // Optional explicit jaw: frames × 6, a rotation vector (degrees, axis·angle,
+  // about the rig's jaw pivot) then a translation (cm), rig rest frame.
+  // frame_controls (perf/perf_controls.h) turns it into Controls.
+  bool has_jaw = false;
+  std::vector<float> jaw;
 
   int frames() const {
     return names.empty() ? 0 : int(weights.size() / names.size());
   }
   const float* frame(int f) const { return weights.data() + size_t(f) * names.size(); }
+  const float* jaw_frame(int f) const { return jaw.data() + size_t(f) * 6; }  // only when has_jaw
   double time(int f) const { return start_time + f / fps; }
   double duration() const { return frames() > 0 ? (frames() - 1) / fps : 0.0; }
 };
@@ -62,9 +80,17 @@ nlohmann::json performance_to_json(const Performance& perf);
 // Writes performance_to_json atomically (no partial file on failure).
 void save_performance_json(const Performance& perf, const std::string& path);
 
+// Loads a performance by extension: ".json" keyframes (load_performance_json)
+// or ".csv" Live Link Face capture (load_livelink_csv at its default 60 fps
+// capture, 30 fps output; `csv_report`, if given, receives its column report).
+// Any other extension is an Error naming the file.
+Performance load_performance(const std::string& path, const std::vector<std::string>& rig_names,
+                             LiveLinkReport* csv_report = nullptr);
+
 // Built-in performances at 30 fps: "smile", "jaw", "talk", "random" (see
-// builtin_performance.cpp). Shapes the rig lacks are skipped; an unknown
-// name is an Error listing the valid ones.
+// builtin_performance.cpp) and the FACS-based emotions "amazement", "anger",
+// "fear", "pain" (themed_performance.cpp, docs/performances.md). Shapes the
+// rig lacks are skipped; an unknown name is an Error listing the valid ones.
 Performance builtin_performance(const std::string& name, const std::vector<std::string>& rig_names);
 std::vector<std::string> builtin_performance_names();
 

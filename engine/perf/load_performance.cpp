@@ -1,0 +1,22 @@
+// load_performance: one entry point for every performance file the tools
+// accept, so commands need not know the formats.
+#include <cctype>
+#include <filesystem>
+
+#include "core/error.h"
+#include "perf/livelink_csv.h"
+#include "perf/performance.h"
+
+namespace facesr {
+
+Performance load_performance(const std::string& path, const std::vector<std::string>& rig_names,
+                             LiveLinkReport* csv_report) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".json") return load_performance_json(path, rig_names);
+  if (ext == ".csv") return load_livelink_csv(path, rig_names, 60, 30, csv_report);
+  throw Error(path + ": unknown performance file type '" + ext +
+              "' (expected .json keyframes or .csv Live Link Face capture)");
+}
+
+}  // namespace facesr
