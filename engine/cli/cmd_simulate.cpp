@@ -3,6 +3,7 @@
 // facesr bench sim: timing of the LR step (see engine/bench/sim_bench.h).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 
@@ -11,8 +12,10 @@
 #include "bench/bench_report.h"
 #include "bench/sim_bench.h"
 #include "cli/commands.h"
+#include "collide/mouth_collider.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "perf/perf_controls.h"
 #include "perf/performance.h"
 #include "perf/sequence_io.h"
 #include "rig/rig_io.h"
@@ -72,7 +75,7 @@ struct SolverArgs {
 Performance load_perf(const std::string& path, const std::string& builtin, const Rig& rig) {
   require(path.empty() != builtin.empty(), "give exactly one of --performance FILE or --builtin NAME");
   return path.empty() ? builtin_performance(builtin, rig.blendshape_names)
-                      : load_performance_json(path, rig.blendshape_names);
+                      : load_performance(path, rig.blendshape_names);
 }
 
 void require_parent(const std::string& out) {
@@ -151,14 +154,19 @@ void register_simulate(CLI::App& app) {
     std::string rig, res = "low", performance, builtin, out;
     std::vector<std::string> springs, spheres;
     int max_frames = 0;
-    bool json = false, quiet = false;
+    bool json = false, quiet = false, no_collisions = false;
+    double contact_stiffness = -1;
     SolverArgs solver;
   };
   static Args a;
   auto* sub = app.add_subcommand("simulate", "Run a performance through the quasistatic muscle simulator");
+  sub->add_flag("--no-collisions", a.no_collisions,
+                "HR: do not resolve lip-lip and lip-teeth contact (penetration is still measured)");
+  sub->add_option("--contact-stiffness", a.contact_stiffness,
+                  "HR: contact penalty per unit skin area, kPa/cm (default 1000)");
   sub->add_option("--rig", a.rig, "Rig file (from `facesr rig build`)")->required();
   sub->add_option("--res", a.res, "low (LR lattice, real-time) | high (HR conforming mesh)");
-  sub->add_option("--performance", a.performance, "Performance JSON (ARKit weight keyframes)");
+  sub->add_option("--performance", a.performance, "Performance: keyframe JSON or Live Link Face CSV");
   sub->add_option("--builtin", a.builtin, "Built-in performance: " + [] {
     std::string s;
     for (const auto& n : builtin_performance_names()) s += (s.empty() ? "" : ", ") + n;
@@ -182,7 +190,20 @@ void register_simulate(CLI::App& app) {
     const Performance perf = load_perf(a.performance, a.builtin, rig);
     const Resolution res = parse_resolution(a.res);
     const SimModel model = make_sim_model(rig, res);
-    auto sim = a.solver.make(model);
+    std::unique_ptr<Simulator> sim;
+    std::shared_ptr<MouthCollider> collider;
+    if (res == Resolution::High) {
+      // The HR reference runs on the CPU: Embree queries the deforming skin
+      // every Newton iteration, which needs the positions on the host, and
+      // the CPU solver was the faster one on this machine (BENCHMARKS.md).
+      CollisionOptions co;
+      if (a.contact_stiffness > 0) co.stiffness = a.contact_stiffness;
+      collider = std::make_shared<MouthCollider>(rig, model, co);
+      sim = make_cpu_simulator(model, a.solver.options(), collider, !a.no_collisions);
+    } else {
+      require(!a.no_collisions && a.contact_stiffness < 0, "collision options apply to --res high only");
+      sim = a.solver.make(model);
+    }
     int frames = perf.frames();
     if (a.max_frames > 0) frames = std::min(frames, a.max_frames);
     require(frames > 0, "the performance has no frames");
@@ -198,13 +219,13 @@ void register_simulate(CLI::App& app) {
                       !a.quiet);
     std::vector<double> ms, x, s;
     std::vector<float> xf, sf;
-    double newton = 0, cg = 0, max_rel = 0;
+    double newton = 0, cg = 0, max_rel = 0, max_pen = 0, contacts = 0;
     int inverted_max = 0, nan_frames = 0, unconverged = 0;
     Controls c;
     for (const auto& spec : a.springs) c.springs.push_back(parse_spring(spec, rig, model));
     for (const auto& spec : a.spheres) c.spheres.push_back(parse_sphere(spec));
     for (int f = 0; f < frames; ++f) {
-      c.weights.assign(perf.frame(f), perf.frame(f) + perf.names.size());
+      frame_controls(perf, f, rig.jaw, c);
       const StepStats st = sim->step(c);
       sim->nodes(x);
       sim->surface(s);
@@ -224,9 +245,14 @@ void register_simulate(CLI::App& app) {
       max_rel = std::max(max_rel, st.rel_residual);
       inverted_max = std::max(inverted_max, st.inverted_tets);
       unconverged += !st.converged;
-      char detail[160];
+      max_pen = std::max(max_pen, st.max_penetration_cm);
+      contacts += st.contacts;
+      char detail[200];
       std::snprintf(detail, sizeof detail, "%.1f ms, %d Newton, %d CG, residual %.1e", st.ms, st.newton_iters,
                     st.cg_iters, st.rel_residual);
+      if (collider)
+        std::snprintf(detail + std::strlen(detail), sizeof detail - std::strlen(detail),
+                      ", %d contacts, max penetration %.3f cm", st.contacts, st.max_penetration_cm);
       progress.update(f + 1, detail);
     }
     writer.commit();
@@ -249,6 +275,14 @@ void register_simulate(CLI::App& app) {
                      {"surface_vertices", model.num_surface},
                      {"out", a.out},
                      {"units", "cm"}};
+    if (collider) {
+      j["max_penetration_cm"] = max_pen;
+      j["contacts_mean"] = contacts / frames;
+      j["collisions_resolved"] = !a.no_collisions;
+      j["collision_region_nodes"] = collider->info().region_nodes;
+      j["collision_rest_excluded"] = collider->info().rest_excluded;
+      j["teeth_closed"] = collider->info().teeth_closed;
+    }
     if (a.json) {
       std::printf("%s\n", j.dump(2).c_str());
     } else {

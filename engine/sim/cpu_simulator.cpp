@@ -3,11 +3,14 @@
 // same algorithm with device buffers.
 #include <Eigen/Dense>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 
 #include "core/error.h"
 #include "core/progress.h"
+#include "sim/contact.h"
 #include "sim/cpu_forces.h"
 #include "sim/simulator.h"
 
@@ -34,7 +37,10 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 
 class CpuSimulator final : public Simulator {
  public:
-  CpuSimulator(const SimModel& m, const SolverOptions& opt) : m_(m), opt_(opt) { reset(); }
+  CpuSimulator(const SimModel& m, const SolverOptions& opt, std::shared_ptr<ContactSource> contacts, bool resolve)
+      : m_(m), opt_(opt), contacts_(std::move(contacts)), resolve_(resolve) {
+    reset();
+  }
 
   void reset() override {
     x_ = m_.rest;
@@ -51,10 +57,16 @@ class CpuSimulator final : public Simulator {
   void forces(const Controls& c, std::vector<double>& f) override {
     const FrameInputs in = prepare_frame(m_, c);
     energy_gradient(m_, in, tet_activations(m_, in), x_, f);
+    if (contacts_ && resolve_) {
+      contacts_->detect(x_, in, planes_);
+      contact_gradient(planes_, x_, f);
+    }
     mask(f);
     for (double& v : f) v = -v;
   }
-  std::string device() const override { return "cpu-reference (Eigen, double)"; }
+  std::string device() const override {
+    return contacts_ && resolve_ ? "cpu-reference (Eigen, double) + Embree contacts" : "cpu-reference (Eigen, double)";
+  }
   const SimModel& model() const override { return m_; }
 
   double time_stiffness_product(int reps) override {
@@ -96,13 +108,49 @@ class CpuSimulator final : public Simulator {
     double e_cur = std::numeric_limits<double>::quiet_NaN();  // energy at x_, once known
     ElementHessian H;
     std::vector<double> d(n), xt(n);
+    const bool resolve = contacts_ && resolve_;
+    planes_.clear();
+    // Contact planes are re-detected during the first iterations, then frozen
+    // so that Newton converges on a fixed energy (re-detecting every iteration
+    // turns it into a linearly converging fixed-point iteration). A converged
+    // state that still penetrates deeper than the tolerance gets fresh planes
+    // and more iterations.
+    int detections = 0;
+    bool refresh = resolve;
     for (int it = 0;; ++it) {
+      if (refresh) {
+        // The energy changes with the planes, so the cached line-search energy no longer applies.
+        contacts_->detect(x_, in, planes_);
+        ++detections;
+        e_cur = std::numeric_limits<double>::quiet_NaN();
+      }
+      refresh = resolve && it + 1 < opt_.contact_refresh_iters;
       energy_gradient(m_, in, alpha, x_, g);
+      contact_gradient(planes_, x_, g);
       mask(g);
       st.rel_residual = std::sqrt(dot(g, g)) / ref;
       st.residuals.push_back(st.rel_residual);
+      if (debug_contacts_) {
+        int kinds[3] = {0, 0, 0};
+        double depth[3] = {0, 0, 0};
+        for (const auto& c : planes_) {
+          const int k = std::min(std::max(c.kind, 0), 2);
+          kinds[k] += c.penetration > 0;
+          depth[k] = std::max(depth[k], c.penetration);
+        }
+        std::fprintf(stderr, "  newton %d: residual %.2e, contacts %d/%d/%d, depth %.3f/%.3f/%.3f cm\n", it,
+                     st.rel_residual, kinds[0], kinds[1], kinds[2], depth[0], depth[1], depth[2]);
+      }
       if (!std::isfinite(st.rel_residual)) throw Error("simulation diverged (non-finite forces)");
       if (st.rel_residual <= opt_.newton_tol) {
+        if (resolve && detections < opt_.contact_detections_max && it < opt_.newton_max) {
+          std::vector<ContactPlane> fresh;
+          contacts_->detect(x_, in, fresh);
+          if (max_penetration(fresh) > opt_.penetration_tol_cm) {
+            refresh = true;
+            continue;
+          }
+        }
         st.converged = true;
         break;
       }
@@ -112,20 +160,22 @@ class CpuSimulator final : public Simulator {
       // meets negative curvature with it, the step is redone with the fix.
       bool exact = st.rel_residual < opt_.exact_hessian_below;
       element_hessian(m_, in, alpha, x_, !exact, H);
+      contact_hessian_diag(planes_, x_, H.diag);
       bool negative = false;
       st.cg_iters += pcg(H, g, d, negative);
       if (exact && negative) {
         element_hessian(m_, in, alpha, x_, true, H);
+        contact_hessian_diag(planes_, x_, H.diag);
         st.cg_iters += pcg(H, g, d, negative);
       }
       ++st.newton_iters;
-      const double e0 = std::isnan(e_cur) ? total_energy(m_, in, alpha, x_) : e_cur;
+      const double e0 = std::isnan(e_cur) ? energy(in, alpha, x_) : e_cur;
       const double slope = dot(g, d);
       double a = 1;
       bool accepted = false;
       for (int ls = 0; ls <= opt_.line_search_max; ++ls) {
         for (size_t i = 0; i < n; ++i) xt[i] = x_[i] + a * d[i];
-        const double e = total_energy(m_, in, alpha, xt);
+        const double e = energy(in, alpha, xt);
         if (std::isfinite(e) && e <= e0 + 1e-4 * a * slope + 1e-13 * std::abs(e0)) {  // roundoff slack
           accepted = true;
           e_cur = e;
@@ -137,14 +187,24 @@ class CpuSimulator final : public Simulator {
       if (!accepted) break;  // no descent along d: report the residual as is
       x_.swap(xt);
     }
-    st.energy = std::isnan(e_cur) ? total_energy(m_, in, alpha, x_) : e_cur;
+    st.energy = std::isnan(e_cur) ? energy(in, alpha, x_) : e_cur;
     ++solved_frames_;
+    if (contacts_) {
+      // Measured on the final positions whether or not contacts were resolved.
+      std::vector<ContactPlane> final_planes;
+      contacts_->detect(x_, in, final_planes);
+      st.contacts = count_penetrating(final_planes);
+      st.max_penetration_cm = max_penetration(final_planes);
+    }
     st.inverted_tets = count_inverted(m_, x_);
     st.ms = 1e3 * seconds_since(t0);
     return st;
   }
 
  private:
+  double energy(const FrameInputs& in, const std::vector<double>& alpha, const std::vector<double>& x) const {
+    return total_energy(m_, in, alpha, x) + contact_energy(planes_, x);
+  }
   void mask(std::vector<double>& v) const {
     for (int i = 0; i < m_.num_nodes; ++i)
       if (m_.node_bone[i]) v[3 * i] = v[3 * i + 1] = v[3 * i + 2] = 0;
@@ -177,6 +237,7 @@ class CpuSimulator final : public Simulator {
     int it = 0;
     while (it < opt_.cg_max) {
       hessian_product(m_, H, p, q);
+      contact_product(planes_, x_, p, q);
       mask(q);
       const double pq = dot(p, q);
       if (!(pq > 0)) {
@@ -199,14 +260,20 @@ class CpuSimulator final : public Simulator {
 
   SimModel m_;
   SolverOptions opt_;
+  std::shared_ptr<ContactSource> contacts_;
+  bool resolve_ = true;
+  std::vector<ContactPlane> planes_;  // this Newton iteration's contacts
+  // FACESR_CONTACT_DEBUG=1: contacts per kind and depth at every Newton iteration.
+  bool debug_contacts_ = std::getenv("FACESR_CONTACT_DEBUG") != nullptr;
   std::vector<double> x_, x_prev_;
   int solved_frames_ = 0;
 };
 
 }  // namespace
 
-std::unique_ptr<Simulator> make_cpu_simulator(const SimModel& model, const SolverOptions& opt) {
-  return std::make_unique<CpuSimulator>(model, opt);
+std::unique_ptr<Simulator> make_cpu_simulator(const SimModel& model, const SolverOptions& opt,
+                                              std::shared_ptr<ContactSource> contacts, bool resolve_contacts) {
+  return std::make_unique<CpuSimulator>(model, opt, std::move(contacts), resolve_contacts);
 }
 
 }  // namespace facesr

@@ -23,6 +23,13 @@ struct SolverOptions {
   // Start each frame from the linear extrapolation of the last two solved
   // frames rather than the last one (smooth performances need fewer Newton steps).
   bool extrapolate = true;
+  // With a contact source (HR collisions): detect contacts at the first
+  // `contact_refresh_iters` Newton iterations, then hold the planes fixed; on
+  // convergence re-detect, and go on while the deepest penetration exceeds
+  // penetration_tol_cm, up to contact_detections_max detections per frame.
+  int contact_refresh_iters = 3;
+  int contact_detections_max = 6;
+  double penetration_tol_cm = 0.03;
 };
 
 struct StepStats {
@@ -37,6 +44,10 @@ struct StepStats {
   bool converged = false;
   int inverted_tets = 0;      // tets with det F ≤ 0 after the step
   double ms = 0;              // wall time of the step
+  // With a contact source: penetrating nodes and the deepest penetration (cm)
+  // at the final positions (measured even when contacts are not resolved).
+  int contacts = 0;
+  double max_penetration_cm = 0;
   std::vector<double> residuals;  // rel_residual before each Newton iteration and at the end
 };
 
@@ -60,7 +71,13 @@ class Simulator {
   virtual const SimModel& model() const = 0;
 };
 
-std::unique_ptr<Simulator> make_cpu_simulator(const SimModel& model, const SolverOptions& opt = {});
+class ContactSource;
+// With `contacts`, every Newton iteration detects contacts and resolves them
+// with penalty planes (sim/contact.h); with resolve_contacts = false they are
+// only measured after each step (for comparisons without collision handling).
+std::unique_ptr<Simulator> make_cpu_simulator(const SimModel& model, const SolverOptions& opt = {},
+                                              std::shared_ptr<ContactSource> contacts = nullptr,
+                                              bool resolve_contacts = true);
 
 // Face surface from node positions via the embedding.
 void embed_surface(const SimModel& m, const std::vector<double>& x, std::vector<double>& s);
