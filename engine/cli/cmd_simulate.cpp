@@ -163,7 +163,7 @@ void register_simulate(CLI::App& app) {
   sub->add_flag("--no-collisions", a.no_collisions,
                 "HR: do not resolve lip-lip and lip-teeth contact (penetration is still measured)");
   sub->add_option("--contact-stiffness", a.contact_stiffness,
-                  "HR: contact penalty per unit skin area, kPa/cm (default 1000)");
+                  "HR: contact penalty per unit skin area, kPa/cm (default 3000)");
   sub->add_option("--rig", a.rig, "Rig file (from `facesr rig build`)")->required();
   sub->add_option("--res", a.res, "low (LR lattice, real-time) | high (HR conforming mesh)");
   sub->add_option("--performance", a.performance, "Performance: keyframe JSON or Live Link Face CSV");

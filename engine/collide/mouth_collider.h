@@ -22,9 +22,9 @@ struct CollisionOptions {
   bool self = true;   // lip–lip (skin against skin in the mouth region)
   bool teeth = true;  // skin against upper and lower teeth
   // Penalty stiffness per unit of skin area: k_node = stiffness · area(node),
-  // kPa/cm (200× the default track-spring stiffness, so a track pulling a lip
-  // 1 cm into the other lip is held back with ~0.005 cm of penetration).
-  double stiffness = 1000;
+  // kPa/cm (600× the default track-spring stiffness, so a track pulling a lip
+  // 1 cm into the other lip is held back with ~0.002 cm of penetration).
+  double stiffness = 3000;
   // Deepest penetration that is still recognised as contact, cm; points
   // further behind a surface are taken to be on its far side.
   double max_depth_cm = 0.6;
