@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -5,7 +6,10 @@
 
 #include "cli/commands.h"
 #include "core/error.h"
+#include "dataset/dataset_io.h"
+#include "dataset/dataset_metrics.h"
 #include "perf/sequence_io.h"
+#include "render/error_render.h"
 #include "render/sequence_gltf.h"
 #include "render/sequence_render.h"
 #include "rig/rig_io.h"
@@ -14,7 +18,8 @@ namespace facesr::cli {
 namespace {
 
 struct RenderArgs {
-  std::string rig, seq, out, gltf, frames;
+  std::string rig, seq, dataset, out, gltf, frames;
+  double scale_cm = 0;
   int count = 6;
   RenderOptions opt;
   bool json = false, quiet = false;
@@ -47,7 +52,55 @@ std::vector<int> parse_frame_list(const std::string& text) {
   return out;
 }
 
+// The LR-embedded surface of chosen dataset frames, coloured by its distance
+// to the HR surface (what super-resolution has to make up for).
+void run_render_dataset(const RenderArgs& a) {
+  require_output_folder(a.out, "output");
+  require(a.gltf.empty() && !a.opt.heat, "--gltf and --heat apply to --seq only");
+  const Rig rig = load_rig(a.rig);
+  const DatasetSequence ds = read_dataset_sequence(a.dataset);
+  const int S = rig.num_surface_vertices();
+  require(ds.header.num_surface == uint64_t(S) && ds.header.rig_checksum == rig_checksum(rig),
+          a.dataset + ": was made with another rig than " + a.rig);
+  const std::vector<int> frames =
+      a.frames.empty() ? evenly_spaced_frames(ds.num_frames(), a.count) : parse_frame_list(a.frames);
+  std::vector<std::vector<float>> pos, err;
+  std::vector<std::string> labels;
+  double worst = 0, sum = 0;
+  for (int f : frames) {
+    require(f < ds.num_frames(), a.dataset + ": frame " + std::to_string(f) + " is out of range (the sequence has " +
+                                     std::to_string(ds.num_frames()) + " frames)");
+    const DatasetFrame& fr = ds.frame(f);
+    std::vector<float> p(3 * size_t(S));
+    for (int v = 0; v < S; ++v)
+      for (int k = 0; k < 3; ++k) p[3 * v + k] = float(rig.surface(v, k)) + fr.embedded_disp[3 * v + k];
+    pos.push_back(std::move(p));
+    err.push_back(embedded_error_per_vertex(fr));
+    double mean, max;
+    embedded_error(fr, mean, max);
+    worst = std::max(worst, max);
+    sum += mean;
+    char label[96];
+    std::snprintf(label, sizeof label, "%s frame %d  mean %.3f cm", ds.header.name.c_str(), f, mean);
+    labels.push_back(label);
+  }
+  const double scale = a.scale_cm > 0 ? a.scale_cm : std::max(worst, 1e-6);
+  render_error_png(rig, pos, err, labels, scale, a.out, a.opt.tile_width);
+  if (!a.quiet) std::fprintf(stderr, "[render] wrote %s\n", a.out.c_str());
+  if (a.json)
+    std::printf("%s\n", nlohmann::json({{"png", a.out},
+                                        {"frames", frames},
+                                        {"scale_max_cm", scale},
+                                        {"embedded_error_max_cm", worst},
+                                        {"embedded_error_mean_cm", sum / double(frames.size())},
+                                        {"units", "cm"}})
+                            .dump(2)
+                            .c_str());
+}
+
 void run_render(const RenderArgs& a) {
+  require(a.seq.empty() != a.dataset.empty(), "give exactly one of --seq FILE.fsq or --dataset FILE.fsd");
+  if (!a.dataset.empty()) return run_render_dataset(a);
   require_output_folder(a.out, "output");
   if (!a.gltf.empty()) require_output_folder(a.gltf, "glTF output");
   const Rig rig = load_rig(a.rig);
@@ -94,9 +147,12 @@ void run_render(const RenderArgs& a) {
 
 void register_render(CLI::App& app) {
   static RenderArgs a;
-  auto* render = app.add_subcommand("render", "Render frames of a simulated sequence (.fsq) to a PNG grid");
+  auto* render = app.add_subcommand("render", "Render frames of a simulated sequence (.fsq) or dataset errors (.fsd) to a PNG grid");
   render->add_option("--rig", a.rig, "Rig file the sequence was simulated with")->required();
-  render->add_option("--seq", a.seq, "Sequence file (.fsq)")->required();
+  render->add_option("--seq", a.seq, "Sequence file (.fsq)");
+  render->add_option("--dataset", a.dataset,
+                     "Dataset sequence (.fsd): draw the LR-embedded surface coloured by its error against HR (cm)");
+  render->add_option("--scale", a.scale_cm, "With --dataset: top of the error scale, cm (default: the largest error)");
   render->add_option("--out,-o", a.out, "Output PNG")->required();
   auto* frames = render->add_option("--frames", a.frames, "Comma-separated frame indices, e.g. 0,10,20");
   auto* count =

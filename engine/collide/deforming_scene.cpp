@@ -52,7 +52,7 @@ bool query_callback(RTCPointQueryFunctionArguments* args) {
 
 struct CountData {
   RTCIntersectContext ctx;  // first member: Embree passes this pointer to the filter
-  std::vector<unsigned> prims;
+  std::vector<std::pair<float, unsigned>> hits;  // (t, triangle)
 };
 
 // Records every hit and rejects it, so traversal visits all crossings. Embree
@@ -61,7 +61,8 @@ void count_filter(const RTCFilterFunctionNArguments* args) {
   auto* c = reinterpret_cast<CountData*>(args->context);
   for (unsigned i = 0; i < args->N; ++i)
     if (args->valid[i] == -1) {
-      c->prims.push_back(RTCHitN_primID(args->hit, args->N, i));
+      // During the filter call the ray's tfar holds the candidate hit's distance.
+      c->hits.emplace_back(RTCRayN_tfar(args->ray, args->N, i), RTCHitN_primID(args->hit, args->N, i));
       args->valid[i] = 0;
     }
 }
@@ -119,7 +120,7 @@ DeformingScene::Hit DeformingScene::closest(const Vec3& p, double max_dist, Skip
   return d.best;
 }
 
-int DeformingScene::crossings(const Vec3& o, const Vec3& dir, double tmax) const {
+std::vector<std::pair<double, int>> DeformingScene::hits(const Vec3& o, const Vec3& dir, double tmax) const {
   require(impl_->built, "DeformingScene: query before update()");
   CountData c;
   rtcInitIntersectContext(&c.ctx);
@@ -139,8 +140,16 @@ int DeformingScene::crossings(const Vec3& o, const Vec3& dir, double tmax) const
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->scene, &c.ctx, &rh);
-  std::sort(c.prims.begin(), c.prims.end());
-  return int(std::unique(c.prims.begin(), c.prims.end()) - c.prims.begin());
+  std::sort(c.hits.begin(), c.hits.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+  std::vector<std::pair<double, int>> out;
+  for (size_t i = 0; i < c.hits.size(); ++i)
+    if (i == 0 || c.hits[i].second != c.hits[i - 1].second) out.emplace_back(c.hits[i].first, int(c.hits[i].second));
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+int DeformingScene::crossings(const Vec3& o, const Vec3& dir, double tmax) const {
+  return int(hits(o, dir, tmax).size());
 }
 
 Vec3 DeformingScene::face_normal(int t) const {

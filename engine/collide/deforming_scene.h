@@ -1,6 +1,7 @@
 #pragma once
 #include <limits>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "core/types.h"
@@ -35,6 +36,9 @@ class DeformingScene {
   Hit closest(const Vec3& p, double max_dist, SkipFn skip = nullptr, const void* user = nullptr) const;
   // Number of triangles crossed by the ray origin + t·dir, t in (0, tmax).
   int crossings(const Vec3& origin, const Vec3& dir, double tmax = std::numeric_limits<double>::infinity()) const;
+  // Every triangle crossed by that ray, as (t, triangle), nearest first.
+  std::vector<std::pair<double, int>> hits(const Vec3& origin, const Vec3& dir,
+                                           double tmax = std::numeric_limits<double>::infinity()) const;
 
   Vec3 face_normal(int tri) const;  // unit, from the current positions
   const Tris& triangles() const { return F_; }

@@ -72,6 +72,14 @@ bool teeth_contact(const MouthCollider::Teeth& t, const Vec3& p, double max_dept
   return true;
 }
 
+// Whether the first surface (outside the node's own neighbourhood) met along
+// p + t·dir is entered from its back, i.e. p lies inside the body.
+bool ray_exits_body(const DeformingScene& skin, const Vec3& p, const Vec3& dir, const std::vector<int>& own) {
+  for (const auto& [t, tri] : skin.hits(p, dir))
+    if (!std::binary_search(own.begin(), own.end(), tri)) return skin.face_normal(tri).dot(dir) > 0;
+  return false;
+}
+
 }  // namespace
 
 MouthCollider::MouthCollider(const Rig& rig, const SimModel& model, const CollisionOptions& opt) : opt_(opt) {
@@ -199,11 +207,17 @@ void MouthCollider::find(const std::vector<double>& x, const FrameInputs& in, st
       if (h.tri >= 0) {
         Vec3 np = Vec3::Zero();
         for (int t : node_tris_[i]) np += skin_->face_normal(t);
+        np.normalize();
         const Vec3 nt = skin_->face_normal(h.tri);
-        const double d = (h.point - p).dot(nt);
-        // Behind the other skin (or within the margin) and facing it. Both
-        // skins are pushed, each to the plane half way between them, so that
-        // together they close the gap once instead of overshooting it twice.
+        double d = (h.point - p).dot(nt);
+        // Behind the other skin and facing it. Being behind the nearest
+        // surface is not enough (the inner lining of a lip lies behind that
+        // lip's own outer skin): the node is inside the body only if a ray
+        // along its own outward normal leaves the body, i.e. first meets a
+        // surface from the back.
+        if (d > 0 && !(np.dot(nt) < 0 && ray_exits_body(*skin_, p, np, own_[i]))) d = -1e300;
+        // Both skins are pushed, each to the plane half way between them, so
+        // that together they close the gap once instead of overshooting twice.
         if (d > best && np.dot(nt) < 0) {
           best = d;
           c = {region_[i], p + 0.5 * d * nt, nt, k_[i], kLipSelf, d};
