@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The main job: install dependencies, build, build the face rigs, simulate a
-# performance on the LR lattice (OpenCL) and render a few frames of it.
+# performance on the LR lattice (OpenCL) and render a few frames of it, then
+# make a small paired LR/HR dataset and picture its embedded-vs-HR error.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -11,11 +12,18 @@ $F rig build --source procedural -o out/procedural.rig --preview out/procedural.
 $F perf write --rig out/procedural.rig --builtin talk -o out/talk.json
 $F simulate --rig out/procedural.rig --res low --performance out/talk.json --out out/procedural_talk.fsq --json
 $F render --rig out/procedural.rig --seq out/procedural_talk.fsq --count 6 --heat -o out/procedural_talk.png
+# Paired LR/HR data: the four themed performances, first 30 frames each.
+$F dataset --rig out/procedural.rig --out out/procedural_dataset --frames 30 --json
+$F render --rig out/procedural.rig --dataset out/procedural_dataset/pain.fsd --count 6 -o out/procedural_pain_error.png
 ICT_DIR="${FACESR_ICT_DIR:-../shared/data/ict-facekit}"
 if [[ -f "$ICT_DIR/generic_neutral_mesh.obj" ]]; then
   $F rig build --source "$ICT_DIR" -o out/ict.rig --preview out/ict.png
   $F simulate --rig out/ict.rig --res low --builtin talk --out out/ict_talk.fsq --json
   $F render --rig out/ict.rig --seq out/ict_talk.fsq --count 6 --heat -o out/ict_talk.png --gltf out/ict_talk.gltf
+  # The full ICT dataset takes about an hour on 2 cores; opt in with FACESR_DEMO_ICT_DATASET=1.
+  if [[ "${FACESR_DEMO_ICT_DATASET:-0}" == 1 ]]; then
+    $F dataset --rig out/ict.rig --out out/ict_dataset --json
+  fi
 else
   echo "demo: ICT FaceKit data not found at $ICT_DIR; skipping the ICT rig" >&2
 fi
