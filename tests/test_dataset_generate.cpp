@@ -21,18 +21,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-class DatasetGenerate : public ::testing::Test {
+class DatasetGenerate : public fixtures::ScratchSuite<DatasetGenerate> {
+ public:
+  static constexpr const char* kScratch = "facesr_dataset_";
+
  protected:
-  static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("facesr_dataset_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    save_rig(fixtures::procedural_rig(), path("p.rig"));
-  }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
-  static std::string path(const std::string& name) { return (dir_ / name).string(); }
-  static std::string q(const std::string& name) { return shell_quote(path(name)); }
-  static fixtures::CliResult run(const std::string& args) { return fixtures::run_cli(args, dir_.string()); }
   static DatasetOptions tiny() {
     DatasetOptions o;
     o.builtins = {"anger", "pain"};
@@ -40,9 +33,7 @@ class DatasetGenerate : public ::testing::Test {
     o.progress = false;
     return o;
   }
-  static fs::path dir_;
 };
-fs::path DatasetGenerate::dir_;
 
 TEST_F(DatasetGenerate, TinyDatasetHasPairedFramesManifestAndSplits) {
   const Rig& rig = fixtures::procedural_rig();

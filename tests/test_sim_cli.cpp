@@ -17,26 +17,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
-class SimCli : public ::testing::Test {
+class SimCli : public fixtures::ScratchSuite<SimCli> {
+ public:
+  static constexpr const char* kScratch = "facesr_sim_cli_";
+
  protected:
-  static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("facesr_sim_cli_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    save_rig(fixtures::procedural_rig(), path("p.rig"));
-  }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
-  static std::string path(const std::string& name) { return (dir_ / name).string(); }
-  static std::string q(const std::string& name) { return shell_quote(path(name)); }
-  static fixtures::CliResult run(const std::string& args) { return fixtures::run_cli(args, dir_.string()); }
   static bool exists_with_prefix(const std::string& stem) {
     for (const auto& e : fs::directory_iterator(dir_))
       if (e.path().filename().string().rfind(stem, 0) == 0) return true;
     return false;
   }
-  static fs::path dir_;
 };
-fs::path SimCli::dir_;
 
 }  // namespace
 

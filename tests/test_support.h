@@ -52,3 +52,32 @@ std::string error_of(F&& f) {
 }
 
 }  // namespace facesr::fixtures
+
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "rig/rig_io.h"
+
+namespace facesr::fixtures {
+
+// A test suite with its own scratch folder (removed afterwards) holding the
+// coarse procedural rig as "p.rig", and helpers to run the CLI in it.
+// Derived suites name their folder with `static constexpr const char* kScratch`.
+template <class Derived>
+class ScratchSuite : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = std::filesystem::temp_directory_path() / (std::string(Derived::kScratch) + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    save_rig(procedural_rig(), path("p.rig"));
+  }
+  static void TearDownTestSuite() { std::filesystem::remove_all(dir_); }
+  static std::string path(const std::string& name) { return (dir_ / name).string(); }
+  static std::string q(const std::string& name) { return shell_quote(path(name)); }
+  static CliResult run(const std::string& args) { return run_cli(args, dir_.string()); }
+  static inline std::filesystem::path dir_;
+};
+
+}  // namespace facesr::fixtures

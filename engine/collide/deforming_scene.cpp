@@ -5,6 +5,8 @@
 
 #include <embree3/rtcore.h>
 
+#include "mesh/embree_ray.h"
+
 #include "core/error.h"
 #include "mesh/closest_point_triangle.h"
 
@@ -107,12 +109,7 @@ DeformingScene::Hit DeformingScene::closest(const Vec3& p, double max_dist, Skip
   require(impl_->built, "DeformingScene: query before update()");
   QueryData d{&x_, &F_, p, skip, user, {}};
   d.best.dist = max_dist;
-  RTCPointQuery q;
-  q.x = float(p.x());
-  q.y = float(p.y());
-  q.z = float(p.z());
-  q.time = 0;
-  q.radius = std::isfinite(max_dist) ? float(max_dist) : std::numeric_limits<float>::infinity();
+  RTCPointQuery q = embree_point_query(p, max_dist);
   RTCPointQueryContext ctx;
   rtcInitPointQueryContext(&ctx);
   rtcPointQuery(impl_->scene, &q, &ctx, query_callback, &d);
@@ -124,21 +121,7 @@ std::vector<std::pair<double, int>> DeformingScene::hits(const Vec3& o, const Ve
   require(impl_->built, "DeformingScene: query before update()");
   CountData c;
   rtcInitIntersectContext(&c.ctx);
-  RTCRayHit rh;
-  rh.ray.org_x = float(o.x());
-  rh.ray.org_y = float(o.y());
-  rh.ray.org_z = float(o.z());
-  rh.ray.dir_x = float(dir.x());
-  rh.ray.dir_y = float(dir.y());
-  rh.ray.dir_z = float(dir.z());
-  rh.ray.tnear = 0;
-  rh.ray.tfar = std::isfinite(tmax) ? float(tmax) : std::numeric_limits<float>::infinity();
-  rh.ray.time = 0;
-  rh.ray.mask = 0xFFFFFFFF;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  RTCRayHit rh = embree_ray(o, dir, 0, tmax);
   rtcIntersect1(impl_->scene, &c.ctx, &rh);
   std::sort(c.hits.begin(), c.hits.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
   std::vector<std::pair<double, int>> out;

@@ -4,6 +4,7 @@
 #include "core/binary_io.h"
 #include "core/checksum.h"
 #include "core/error.h"
+#include "core/framed_file.h"
 #include "dataset/dataset_format.h"
 #include "dataset/dataset_io.h"
 
@@ -48,24 +49,8 @@ DatasetSequence read_dataset_sequence(const std::string& path) {
   const DatasetHeader& h = seq.header;
   fsd::validate_header(h, path);
 
-  // Sizes before the checksum, so a cut-off file is reported as truncated
-  // rather than as corrupt.
-  const uint64_t per_frame = fsd::frame_bytes(h), available = r.remaining();
-  const uint64_t frames_fit = available >= 8 ? (available - 8) / per_frame : 0;
-  require(h.num_frames >= 1, path + ": has no frames");
-  require(h.num_frames <= frames_fit, path + ": truncated: the header promises " + std::to_string(h.num_frames) +
-                                          " frames of " + std::to_string(per_frame) + " bytes, but only " +
-                                          std::to_string(frames_fit) + " fit in the file's " +
-                                          std::to_string(bytes.size()) + " bytes");
-  const uint64_t expected = r.position() + h.num_frames * per_frame + 8;
-  require(bytes.size() == expected, path + ": " + std::to_string(bytes.size() - expected) +
-                                        " unexpected trailing bytes after the checksum (the file has " +
-                                        std::to_string(bytes.size()) + ", expected " + std::to_string(expected) + ")");
-  uint64_t stored;
-  std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
-  const uint64_t computed = fnv1a64(bytes.data(), bytes.size() - 8);
-  require(stored == computed, path + ": checksum mismatch (stored " + fsd::hex(stored) + ", computed " +
-                                  fsd::hex(computed) + "): the file is corrupt");
+  const uint64_t per_frame = fsd::frame_bytes(h);
+  check_framed_file(bytes, r.position(), h.num_frames, per_frame, path);
 
   seq.frames.resize(h.num_frames);
   const uint8_t* p = bytes.data() + r.position();

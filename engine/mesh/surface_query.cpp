@@ -5,6 +5,8 @@
 
 #include <embree3/rtcore.h>
 
+#include "mesh/embree_ray.h"
+
 #include "core/error.h"
 #include "mesh/closest_point_triangle.h"
 
@@ -70,12 +72,7 @@ SurfaceQuery::~SurfaceQuery() = default;
 SurfaceQuery::Closest SurfaceQuery::closest(const Vec3& p, double max_dist) const {
   PointQueryData data{&V_, &F_, p, {}};
   data.best.dist = max_dist;
-  RTCPointQuery q;
-  q.x = float(p.x());
-  q.y = float(p.y());
-  q.z = float(p.z());
-  q.time = 0;
-  q.radius = std::isfinite(max_dist) ? float(max_dist) : std::numeric_limits<float>::infinity();
+  RTCPointQuery q = embree_point_query(p, max_dist);
   RTCPointQueryContext ctx;
   rtcInitPointQueryContext(&ctx);
   rtcPointQuery(impl_->scene, &q, &ctx, point_query_callback, &data);
@@ -87,21 +84,7 @@ SurfaceQuery::RayHit SurfaceQuery::first_hit(const Vec3& o, const Vec3& dir, dou
                                              double tmax) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
-  RTCRayHit rh;
-  rh.ray.org_x = float(o.x());
-  rh.ray.org_y = float(o.y());
-  rh.ray.org_z = float(o.z());
-  rh.ray.dir_x = float(dir.x());
-  rh.ray.dir_y = float(dir.y());
-  rh.ray.dir_z = float(dir.z());
-  rh.ray.tnear = float(tmin);
-  rh.ray.tfar = std::isfinite(tmax) ? float(tmax) : std::numeric_limits<float>::infinity();
-  rh.ray.time = 0;
-  rh.ray.mask = 0xFFFFFFFF;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  RTCRayHit rh = embree_ray(o, dir, tmin, tmax);
   rtcIntersect1(impl_->scene, &ctx, &rh);
   RayHit out;
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {

@@ -6,17 +6,13 @@
 #include "core/binary_io.h"
 #include "core/checksum.h"
 #include "core/error.h"
+#include "core/framed_file.h"
 #include "perf/sequence_format.h"
 #include "perf/sequence_io.h"
 
 namespace facesr {
 namespace {
 
-std::string hex(uint64_t v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "0x%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
 
 std::string printable(const uint8_t* p, size_t n) {
   std::string s;
@@ -51,24 +47,8 @@ Sequence read_sequence(const std::string& path) {
   h.num_frames = r.get<uint64_t>("frame count");
   fsq::validate_header(h, path);
 
-  // Sizes before the checksum, so a cut-off file is reported as truncated
-  // rather than as corrupt.
-  const uint64_t per_frame = fsq::frame_bytes(h), available = r.remaining();
-  const uint64_t frames_fit = available >= 8 ? (available - 8) / per_frame : 0;
-  require(h.num_frames >= 1, path + ": has no frames");
-  require(h.num_frames <= frames_fit, path + ": truncated: the header promises " + std::to_string(h.num_frames) +
-                                          " frames of " + std::to_string(per_frame) + " bytes, but only " +
-                                          std::to_string(frames_fit) + " fit in the file's " +
-                                          std::to_string(bytes.size()) + " bytes");
-  const uint64_t expected = r.position() + h.num_frames * per_frame + 8;
-  require(bytes.size() == expected, path + ": " + std::to_string(bytes.size() - expected) +
-                                        " unexpected bytes after the checksum (the file has " +
-                                        std::to_string(bytes.size()) + ", expected " + std::to_string(expected) + ")");
-  uint64_t stored;
-  std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
-  const uint64_t computed = fnv1a64(bytes.data(), bytes.size() - 8);
-  require(stored == computed, path + ": checksum mismatch (stored " + hex(stored) + ", computed " + hex(computed) +
-                                  "): the file is corrupt");
+  const uint64_t per_frame = fsq::frame_bytes(h);
+  check_framed_file(bytes, r.position(), h.num_frames, per_frame, path);
 
   const uint64_t F = h.num_frames, nn = h.num_nodes * 3, ns = h.num_surface * 3;
   seq.time.resize(F);
