@@ -6,14 +6,16 @@ set -euo pipefail
 PACKAGES=(
   # toolchain
   build-essential cmake pkg-config git
-  # geometry and linear algebra
-  libeigen3-dev libtet1.5-dev libcgal-dev libgmp-dev libmpfr-dev
+  # geometry and linear algebra (Spectra: sparse eigenproblems for the
+  # spectral error split of `facesr eval`)
+  libeigen3-dev libtet1.5-dev libcgal-dev libgmp-dev libmpfr-dev libspectra-dev
   # ray casting (collisions, previews)
   libembree-dev
   # OpenCL: PoCL CPU device, ICD loader, headers
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers
-  # training only
-  libtorch-dev
+  # training only. LibTorch calls the system BLAS; without OpenBLAS that is
+  # the single-threaded reference BLAS, several times slower on the same matmuls.
+  libtorch-dev libopenblas0-openmp
   # I/O and CLI
   nlohmann-json3-dev libcli11-dev libstb-dev
   # tests and benchmarks

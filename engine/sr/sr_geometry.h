@@ -1,0 +1,50 @@
+#pragma once
+// Rest-pose neighbourhoods of the super-resolution network (paper §3.1,
+// §3.2) and of the RBF and MLS baselines (appendix A.2, A.3). They depend
+// only on the rig, so they are computed once and stored in the model file;
+// training, evaluation and the runtime all read the same arrays.
+#include <cstdint>
+#include <vector>
+
+#include "rig/rig.h"
+
+namespace facesr {
+
+struct SrGeometryOptions {
+  int graph_k = 5;      // neighbours in the first EdgeConv graph (paper: 5)
+  int upsample_k = 20;  // interpolation neighbours per HR vertex (paper: 20)
+};
+
+struct SrGeometry {
+  int num_lr = 0;  // N: LR lattice nodes
+  int num_hr = 0;  // M: HR face-surface vertices (the rig's surface)
+  int graph_k = 0, upsample_k = 0;
+  std::vector<float> lr_rest;  // N × 3, cm, the LR rest pose (lip-separating predeformed frame)
+  std::vector<float> hr_rest;  // M × 3, cm, the rig's rest surface
+
+  // §3.1: per LR node its graph_k nearest other LR nodes by shortest path
+  // along the LR tet mesh's edges (rest lengths), nearest first.
+  std::vector<int32_t> lr_graph;  // N × graph_k
+
+  // §3.2: the LR node → HR surface vertex map of the one-to-one assignment
+  // with the least total Euclidean distance (rest poses); -1 for the nodes
+  // left over when N > M.
+  std::vector<int32_t> lr_to_hr;  // N
+
+  // §3.2: per HR vertex its upsample_k nearest mapped LR nodes by shortest
+  // path over the HR surface's edges from the vertex to the node's mapped
+  // vertex, nearest first, with that distance in cm.
+  std::vector<int32_t> up_index;  // M × upsample_k
+  std::vector<float> up_dist;     // M × upsample_k, cm
+
+  // Ablation "without coordinate-based upsampling" (§5.4.1): per HR vertex
+  // its upsample_k Euclidean-nearest LR nodes (rest poses), nearest first.
+  std::vector<int32_t> euclid_index;  // M × upsample_k
+  std::vector<float> euclid_dist;     // M × upsample_k, cm
+};
+
+// Throws Error when the rig has no LR nodes or surface, or k is out of range
+// (graph_k in [1, N - 1], upsample_k in [1, min(N, 64)]).
+SrGeometry build_sr_geometry(const Rig& rig, const SrGeometryOptions& opt = {});
+
+}  // namespace facesr
