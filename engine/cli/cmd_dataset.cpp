@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "bench/bench_report.h"
+#include "cli/arg_lists.h"
 #include "cli/commands.h"
 #include "core/error.h"
 #include "dataset/dataset_manifest.h"
@@ -14,19 +15,6 @@
 
 namespace facesr::cli {
 namespace {
-std::vector<std::string> split_list(const std::string& s) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char ch : s + ",") {
-    if (ch == ',') {
-      if (!cur.empty()) out.push_back(cur);
-      cur.clear();
-    } else {
-      cur.push_back(ch);
-    }
-  }
-  return out;
-}
 // The BENCHMARKS.md section of a dataset run: totals and one row per sequence.
 std::string dataset_markdown(const nlohmann::json& j, const DatasetManifest& m) {
   std::ostringstream md;

@@ -1,61 +1,18 @@
 #include "dataset/dataset_manifest.h"
 
-#include <climits>
-#include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/json_fields.h"
 
 namespace facesr {
 namespace {
 
 using nlohmann::json;
-
-// `at` is the prefix that names where a key lives, e.g. "m.json: " or
-// "m.json: sequences[2].", so messages read "m.json: sequences[2].split ...".
-const json& field(const json& j, const char* key, const std::string& at) {
-  require(j.contains(key), at + key + " is missing");
-  return j[key];
-}
-
-std::string string_field(const json& j, const char* key, const std::string& at) {
-  const json& v = field(j, key, at);
-  require(v.is_string(), at + key + " is not a string (got " + v.dump() + ")");
-  return v.get<std::string>();
-}
-
-int int_field(const json& j, const char* key, const std::string& at, int min) {
-  const json& v = field(j, key, at);
-  require(v.is_number_integer(), at + key + " is not an integer (got " + v.dump() + ")");
-  const bool fits = v.is_number_unsigned() ? v.get<uint64_t>() <= uint64_t(INT_MAX)
-                                           : v.get<int64_t>() >= min && v.get<int64_t>() <= INT_MAX;
-  require(fits, at + key + " is " + v.dump() + ", expected an integer in [" + std::to_string(min) + ", " +
-                    std::to_string(INT_MAX) + "]");
-  return v.get<int>();
-}
-
-uint64_t u64_field(const json& j, const char* key, const std::string& at) {
-  const json& v = field(j, key, at);
-  require(v.is_number_unsigned(), at + key + " is not an unsigned integer (got " + v.dump() + ")");
-  return v.get<uint64_t>();
-}
-
-double number_field(const json& j, const char* key, const std::string& at) {
-  const json& v = field(j, key, at);
-  require(v.is_number(), at + key + " is not a number (got " + v.dump() + ")");
-  const double d = v.get<double>();
-  require(std::isfinite(d), at + key + " is not finite");
-  return d;
-}
-
-bool bool_field(const json& j, const char* key, const std::string& at) {
-  const json& v = field(j, key, at);
-  require(v.is_boolean(), at + key + " is not true or false (got " + v.dump() + ")");
-  return v.get<bool>();
-}
+using namespace json_fields;
 
 // `where` is e.g. "m.json: sequences[2]".
 DatasetManifest::Entry entry_from_json(const json& j, const std::string& where) {

@@ -1,0 +1,12 @@
+#pragma once
+#include <string>
+#include <vector>
+
+namespace facesr::cli {
+
+// "a,b,,c" → {"a", "b", "c"}.
+std::vector<std::string> split_list(const std::string& s);
+// "64,128" → {64, 128}; Error naming `option` on anything but positive integers.
+std::vector<int> int_list(const std::string& s, const std::string& option);
+
+}  // namespace facesr::cli

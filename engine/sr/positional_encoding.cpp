@@ -1,0 +1,24 @@
+#include "sr/positional_encoding.h"
+
+#include <cmath>
+
+#include "core/error.h"
+
+namespace facesr {
+
+std::vector<float> positional_encoding(int num_nodes, int dim) {
+  require(num_nodes >= 0 && dim >= 0 && dim % 2 == 0,
+          "positional encoding: needs num_nodes >= 0 and an even dim >= 0 (got " + std::to_string(num_nodes) + ", " +
+              std::to_string(dim) + ")");
+  std::vector<float> pe(size_t(num_nodes) * size_t(dim));
+  for (int i = 0; i < num_nodes; ++i)
+    for (int m = 0; m < dim / 2; ++m) {
+      // In double: i reaches thousands, and float sin of large arguments loses digits.
+      const double a = double(i) / std::pow(10000.0, 2.0 * m / dim);
+      pe[size_t(i) * dim + 2 * m] = float(std::sin(a));
+      pe[size_t(i) * dim + 2 * m + 1] = float(std::cos(a));
+    }
+  return pe;
+}
+
+}  // namespace facesr

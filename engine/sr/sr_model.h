@@ -1,0 +1,74 @@
+#pragma once
+// A trained super-resolution model (".fsm" file, version 1): the
+// architecture, the rig it belongs to (by checksum, so a model cannot be
+// paired with another rig), the rest-pose neighbourhoods it was trained with,
+// and every parameter tensor. Read by evaluation and by the runtime without
+// LibTorch. All integers and floats little-endian; strings and vectors are a
+// u64 count then the elements.
+//
+//   offset  size  field
+//   0       8     magic "FACESRSM"
+//   8       4     u32 format version (= 1)
+//   12            string header: JSON {"format": "facesr-sr-model", "version": 1,
+//                   "units": "cm", "rig_name", "rig_checksum", "num_lr" (N),
+//                   "num_hr" (M), "architecture": {...}, "training": {...}}
+//                 geometry (SrGeometry, k values from the architecture):
+//                   vector<f32> lr_rest (N×3), hr_rest (M×3)
+//                   vector<i32> lr_graph (N×graph_k), lr_to_hr (N),
+//                               up_index (M×upsample_k)
+//                   vector<f32> up_dist (M×upsample_k)
+//                   vector<i32> euclid_index (M×upsample_k)
+//                   vector<f32> euclid_dist (M×upsample_k)
+//                   (for kind "vae" the six neighbourhood vectors are empty)
+//                 u64 tensor count T, then T tensors, each:
+//                   string name, vector<i64> shape, vector<f32> values
+//                   (in parameter_shapes() order, values row-major)
+//   end - 8       u64 FNV-1a 64 of every byte before it
+//
+// Nothing may follow the checksum. Any layout change needs a new version.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sr/sr_architecture.h"
+#include "sr/sr_geometry.h"
+
+namespace facesr {
+
+struct SrTensor {
+  std::string name;
+  std::vector<int64_t> shape;
+  std::vector<float> values;  // row-major, product(shape) values
+};
+
+struct SrModel {
+  SrArchitecture arch;
+  std::string rig_name;
+  uint64_t rig_checksum = 0;
+  int num_lr = 0, num_hr = 0;  // N, M
+  SrGeometry geometry;
+  std::vector<SrTensor> tensors;
+  nlohmann::json training = nlohmann::json::object();  // how it was trained (free-form record)
+
+  // The tensor with this name; Error if absent.
+  const SrTensor& tensor(const std::string& name) const;
+};
+
+// Checks sizes, names and shapes against parameter_shapes(), index ranges
+// and finiteness. Errors start with `context`.
+void validate_sr_model(const SrModel& m, const std::string& context);
+
+// Validates, then writes atomically (no partial file on failure).
+void save_sr_model(const std::string& path, const SrModel& m);
+
+// Reads and validates; every Error names `path` (missing, truncated, corrupt,
+// wrong version, inconsistent).
+SrModel load_sr_model(const std::string& path);
+
+// Error unless the model was trained on the rig with this checksum and sizes.
+void require_model_matches_rig(const SrModel& m, uint64_t rig_checksum, int num_lr, int num_hr,
+                               const std::string& model_name, const std::string& rig_name);
+
+}  // namespace facesr

@@ -1,0 +1,134 @@
+#include "train/sr_network.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "sr/positional_encoding.h"
+
+namespace facesr {
+
+namespace {
+
+torch::Tensor long_tensor(const std::vector<int32_t>& v, std::vector<int64_t> shape) {
+  return torch::from_blob(const_cast<int32_t*>(v.data()), shape, torch::kInt32).to(torch::kLong).clone();
+}
+
+torch::Tensor float_tensor(const std::vector<float>& v, std::vector<int64_t> shape) {
+  return torch::from_blob(const_cast<float*>(v.data()), shape, torch::kFloat32).clone();
+}
+
+}  // namespace
+
+void set_coordinate_frame(SrArchitecture& arch, const SrGeometry& g) {
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  auto grow = [&](const std::vector<float>& p) {
+    for (size_t i = 0; i + 2 < p.size(); i += 3)
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = std::min(lo[c], double(p[i + c]));
+        hi[c] = std::max(hi[c], double(p[i + c]));
+      }
+  };
+  grow(g.lr_rest);
+  grow(g.hr_rest);
+  double half = 0;
+  for (int c = 0; c < 3; ++c) {
+    arch.coord_center[c] = 0.5 * (lo[c] + hi[c]);
+    half = std::max(half, 0.5 * (hi[c] - lo[c]));
+  }
+  arch.coord_scale = half > 0 ? half : 1;
+}
+
+SrNetworkImpl::SrNetworkImpl(const SrArchitecture& arch, const SrGeometry& g)
+    : arch_(arch), N_(g.num_lr), M_(g.num_hr), K_(arch.upsample_k) {
+  require(arch.kind == "sr", "SrNetwork: architecture kind is '" + arch.kind + "', expected 'sr'");
+  require(g.graph_k == arch.graph_k && g.upsample_k == arch.upsample_k,
+          "SrNetwork: the geometry's k values differ from the architecture's");
+  pe_ = register_buffer("pe", float_tensor(positional_encoding(int(N_), arch.pe_dim), {N_, arch.pe_dim}));
+  graph_ = register_buffer("graph", long_tensor(g.lr_graph, {N_, arch.graph_k}));
+
+  if (arch.feature_encoding) {
+    int64_t in = arch.input_dim();
+    for (size_t s = 0; s < arch.encoder_dims.size(); ++s) {
+      blocks_.push_back(EdgeConvBlock(in, arch.encoder_dims[s], arch.leaky_slope));
+      in = arch.encoder_dims[s];
+    }
+    // Registered under one parent so names read "encoder.<s>.edge.weight".
+    auto list = register_module("encoder", torch::nn::ModuleList());
+    for (auto& b : blocks_) list->push_back(b);
+  }
+
+  if (arch.coordinate_upsampling) {
+    up_index_ = register_buffer("up_index", long_tensor(g.up_index, {M_, K_}));
+    // u_ij = [x^H_j, x^L_i, ‖x^L_i − x^H_j‖] (eq. 2) in the normalised frame.
+    std::vector<float> u(size_t(M_ * K_ * 7));
+    const double s = arch.coord_scale;
+    for (int64_t j = 0; j < M_; ++j)
+      for (int64_t q = 0; q < K_; ++q) {
+        const int64_t i = g.up_index[size_t(j * K_ + q)];
+        float* row = &u[size_t((j * K_ + q) * 7)];
+        double d2 = 0;
+        for (int c = 0; c < 3; ++c) {
+          const double xh = g.hr_rest[size_t(3 * j + c)], xl = g.lr_rest[size_t(3 * i + c)];
+          row[c] = float((xh - arch.coord_center[c]) / s);
+          row[3 + c] = float((xl - arch.coord_center[c]) / s);
+          d2 += (xl - xh) * (xl - xh);
+        }
+        row[6] = float(std::sqrt(d2) / s);
+      }
+    up_input_ = register_buffer("up_input", float_tensor(u, {M_, K_, 7}));
+    weight_net_ = register_module("weight_net", Siren(7, arch.weight_hidden, 1, arch.omega0));
+  } else {
+    up_index_ = register_buffer("up_index", long_tensor(g.euclid_index, {M_, K_}));
+    // Zero logits: uniform weights at the start, as the softmax of equal values.
+    free_weights_ = register_parameter("free_weights", torch::zeros({M_, K_}));
+  }
+  sparse_rows_ = register_buffer("sparse_rows", torch::arange(M_).view({M_, 1}).expand({M_, K_}).reshape({-1}));
+  recon_ = register_module("recon", Siren(arch.encoded_dim(), arch.recon_hidden, 3, arch.omega0));
+}
+
+torch::Tensor SrNetworkImpl::encode(const torch::Tensor& lr_disp, std::vector<torch::Tensor>* features) {
+  const int64_t B = lr_disp.size(0);
+  require(lr_disp.dim() == 3 && lr_disp.size(1) == N_ && lr_disp.size(2) == 3,
+          "SrNetwork: input must be B × " + std::to_string(N_) + " × 3");
+  const auto x0 = torch::cat({lr_disp / arch_.input_scale, pe_.unsqueeze(0).expand({B, N_, arch_.pe_dim})}, 2);
+  std::vector<torch::Tensor> parts{x0};
+  torch::Tensor h = x0;
+  for (size_t s = 0; s < blocks_.size(); ++s) {
+    // The first graph is the geodesic one over the LR mesh (local); later
+    // ones are rebuilt in each submodule's input feature space (§3.1).
+    const auto nbr = s == 0 ? graph_.unsqueeze(0).expand({B, N_, arch_.graph_k}) : feature_knn(h, arch_.graph_k);
+    h = blocks_[s]->forward(h, nbr);
+    parts.push_back(h);
+    if (features) features->push_back(h);
+  }
+  return parts.size() == 1 ? x0 : torch::cat(parts, 2);
+}
+
+torch::Tensor SrNetworkImpl::upsample_weights() {
+  const auto logits = arch_.coordinate_upsampling ? weight_net_->forward(up_input_).squeeze(2) : free_weights_;
+  return torch::softmax(logits, 1);  // eq. 3
+}
+
+torch::Tensor SrNetworkImpl::interpolate(const torch::Tensor& w, const torch::Tensor& f) {
+  // A sparse M × N matrix product: one pass over the M·K weights, and its
+  // backward gives both the features' and the weights' gradients.
+  const int64_t B = f.size(0), C = f.size(2);
+  const auto ind = torch::stack({sparse_rows_, up_index_.reshape({-1})});
+  const auto W = torch::sparse_coo_tensor(ind, w.reshape({-1}), {M_, N_});
+  const auto cols = f.permute({1, 0, 2}).reshape({N_, B * C});
+  return torch::mm(W, cols).view({M_, B, C}).permute({1, 0, 2});
+}
+
+SrNetworkImpl::Output SrNetworkImpl::forward(const torch::Tensor& lr_disp) {
+  Output out;
+  const auto z = encode(lr_disp, &out.features);
+  // The reconstruction's first affine map is applied on the N LR nodes and
+  // then interpolated; equal to interpolating z first because each HR
+  // vertex's weights sum to one (softmax), and M > N with C_enc > width.
+  const auto pre = interpolate(upsample_weights(), recon_->first_linear(z));
+  out.hr_disp = recon_->from_first(pre) * arch_.output_scale;
+  return out;
+}
+
+}  // namespace facesr

@@ -1,0 +1,327 @@
+#include "train/trainer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+#include <random>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "rig/rig_io.h"
+#include "sr/sr_geometry.h"
+#include "train/model_export.h"
+#include "train/sr_loss.h"
+#include "train/sr_network.h"
+#include "train/train_device.h"
+#include "train/training_data.h"
+#include "train/vae_network.h"
+
+namespace facesr {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+json TrainSummary::to_json() const {
+  return {{"kind", kind},
+          {"device", device},
+          {"epochs_planned", epochs_planned},
+          {"epochs", epochs_done},
+          {"resumed_from_epoch", resumed_from_epoch},
+          {"best_epoch", best_epoch},
+          {"train_frames", train_frames},
+          {"validation_frames", validation_frames},
+          {"parameters", parameters},
+          {"first_loss", first_loss},
+          {"final_loss", final_loss},
+          {"best_validation_cm", best_validation_cm},
+          {"train_time_s", train_time_s},
+          {"mean_epoch_s", mean_epoch_s},
+          {"stopped_early", stopped_early},
+          {"hit_time_limit", hit_time_limit},
+          {"finished", finished},
+          {"units", "cm"}};
+}
+
+namespace {
+
+// One of the two trainable models behind one interface.
+struct Net {
+  SrNetwork sr{nullptr};
+  VaeNetwork vae{nullptr};
+  torch::Tensor rest, tris;  // for the face-normal loss
+
+  torch::nn::Module& module() { return sr ? static_cast<torch::nn::Module&>(*sr) : *vae; }
+  torch::Tensor loss(const torch::Tensor& lr, const torch::Tensor& hr, const TrainOptions& o, double beta) {
+    if (sr) {
+      auto out = sr->forward(lr);
+      return sr_loss(out.hr_disp, hr, rest, tris, out.features, o.alpha, beta).total;
+    }
+    return vae_loss(vae->forward(lr, true), hr, vae->arch().output_scale, o.vae_beta) / double(hr.size(1));
+  }
+  torch::Tensor predict(const torch::Tensor& lr) {
+    return sr ? sr->forward(lr).hr_disp : vae->forward(lr, false).hr_disp;
+  }
+};
+
+double rms(const torch::Tensor& t) {
+  const double v = std::sqrt(t.pow(2).mean().item<double>());
+  return v > 1e-12 ? v : 1.0;
+}
+
+// Mean per-vertex Euclidean error (cm) of the model over a frame set.
+double mean_error_cm(Net& net, const FrameSet& s, const torch::Device& dev, int batch) {
+  torch::NoGradGuard no_grad;
+  net.module().eval();
+  double sum = 0;
+  for (int64_t b = 0; b < s.size(); b += batch) {
+    const int64_t n = std::min<int64_t>(batch, s.size() - b);
+    const auto pred = net.predict(s.lr.narrow(0, b, n).to(dev));
+    sum += (pred - s.hr.narrow(0, b, n).to(dev)).norm(2, 2).sum().item<double>();
+  }
+  net.module().train();
+  return sum / double(s.size() * s.hr.size(1));
+}
+
+json config_fingerprint(const SrArchitecture& a, const TrainOptions& o) {
+  return {{"architecture", architecture_to_json(a)}, {"batch_size", o.batch_size}, {"learning_rate", o.learning_rate},
+          {"alpha", o.alpha}, {"beta_start", o.beta_start}, {"beta_end", o.beta_end}, {"vae_beta", o.vae_beta},
+          {"epochs", o.epochs}, {"validation_every", o.validation_every}, {"seed", o.seed},
+          {"dataset", fs::weakly_canonical(o.dataset_dir).string()}};
+}
+
+template <class T>
+void save_archive(const std::string& path, const T& obj) {
+  torch::serialize::OutputArchive ar;
+  obj.save(ar);
+  write_file_atomically(path, [&](std::ostream& out) { ar.save_to(out); });
+}
+
+template <class T>
+void load_archive(const std::string& path, T& obj, const torch::Device& dev) {
+  torch::serialize::InputArchive ar;
+  ar.load_from(path, dev);
+  obj.load(ar);
+}
+
+// Checkpoint layout: model-<epoch>.pt, optimizer-<epoch>.pt, best.pt, and
+// state.json, written last, which names the epoch; older files are removed
+// after it, so an interrupted save leaves the previous checkpoint usable.
+struct Checkpoint {
+  std::string dir;
+  std::string state() const { return dir + "/state.json"; }
+  std::string model(int e) const { return dir + "/model-" + std::to_string(e) + ".pt"; }
+  std::string optim(int e) const { return dir + "/optimizer-" + std::to_string(e) + ".pt"; }
+  std::string best() const { return dir + "/best.pt"; }
+};
+
+void validate(const TrainOptions& o) {
+  require(o.epochs >= 1, "train: --epochs must be at least 1");
+  require(o.batch_size >= 1, "train: --batch must be at least 1");
+  require(o.learning_rate > 0 && std::isfinite(o.learning_rate), "train: --lr must be a positive number");
+  require(o.alpha >= 0 && o.beta_start >= 0 && o.beta_end >= 0 && o.vae_beta >= 0,
+          "train: loss weights must be >= 0");
+  require(o.checkpoint_every >= 1, "train: --checkpoint-every must be at least 1");
+  require(o.validation_every >= 0 && o.validation_every != 1,
+          "train: --validation-every must be 0 (none) or at least 2");
+  require(o.patience >= 0, "train: --patience must be >= 0");
+  require(!o.out_path.empty(), "train: no output model path");
+}
+
+}  // namespace
+
+TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const TrainOptions& opt) {
+  validate(opt);
+  const auto t_start = std::chrono::steady_clock::now();
+  const uint64_t checksum = rig_checksum(rig);
+  const DatasetSplit data = load_dataset_split(opt.dataset_dir, checksum, opt.validation_every);
+  require(data.num_hr == rig.num_surface_vertices(),
+          opt.dataset_dir + ": the dataset has " + std::to_string(data.num_hr) + " surface vertices, the rig " +
+              std::to_string(rig.num_surface_vertices()));
+  use_all_cores();
+  const torch::Device dev = training_device(opt.device);
+
+  SrArchitecture arch = arch_in;
+  arch.input_scale = rms(data.train.lr);
+  arch.output_scale = rms(data.train.hr);
+  SrModel model;
+  model.rig_name = rig.name;
+  model.rig_checksum = checksum;
+  model.num_lr = data.num_lr;
+  model.num_hr = data.num_hr;
+  if (arch.kind == "sr") {
+    model.geometry = build_sr_geometry(rig, {arch.graph_k, arch.upsample_k});
+    require(model.geometry.num_lr == data.num_lr, "train: the rig's LR node count differs from the dataset's");
+  } else {
+    // The VAE needs only the rest poses; the neighbourhoods stay out of its file.
+    SrGeometry& g = model.geometry;
+    g.num_lr = data.num_lr;
+    g.num_hr = data.num_hr;
+    g.graph_k = arch.graph_k;
+    g.upsample_k = arch.upsample_k;
+    require(rig.lr.mesh.X.rows() == data.num_lr, "train: the rig's LR node count differs from the dataset's");
+    g.lr_rest.assign(rig.lr.mesh.X.data(), rig.lr.mesh.X.data() + rig.lr.mesh.X.size());
+    g.hr_rest.assign(rig.surface.data(), rig.surface.data() + rig.surface.size());
+  }
+  set_coordinate_frame(arch, model.geometry);
+  model.arch = arch;
+
+  torch::manual_seed(opt.seed);
+  Net net;
+  if (arch.kind == "sr") {
+    net.sr = SrNetwork(arch, model.geometry);
+    net.sr->to(dev);
+  } else {
+    net.vae = VaeNetwork(arch, data.num_lr, data.num_hr);
+    net.vae->to(dev);
+  }
+  {
+    std::vector<float> r(rig.surface.data(), rig.surface.data() + rig.surface.size());
+    net.rest = torch::from_blob(r.data(), {rig.surface.rows(), 3}, torch::kFloat32).clone().to(dev);
+    std::vector<int64_t> t(rig.surface_tris.data(), rig.surface_tris.data() + rig.surface_tris.size());
+    net.tris = torch::from_blob(t.data(), {rig.surface_tris.rows(), 3}, torch::kLong).clone().to(dev);
+  }
+  torch::optim::Adam optim(net.module().parameters(), torch::optim::AdamOptions(opt.learning_rate));
+
+  TrainSummary sum;
+  sum.kind = arch.kind;
+  sum.device = dev.str();
+  sum.epochs_planned = opt.epochs;
+  sum.train_frames = int(data.train.size());
+  sum.validation_frames = int(data.validation.size());
+  for (const auto& p : net.module().parameters()) sum.parameters += p.numel();
+
+  // Resume.
+  Checkpoint ck{opt.checkpoint_dir.empty() ? opt.out_path + ".ckpt" : opt.checkpoint_dir};
+  const json fingerprint = config_fingerprint(arch, opt);
+  int start_epoch = 0;
+  json history = json::array();
+  double best_val = -1;
+  int best_epoch = -1;
+  if (opt.resume && fs::exists(ck.state())) {
+    std::ifstream in(ck.state());
+    json st;
+    try {
+      st = json::parse(in);
+    } catch (const json::parse_error& e) {
+      throw Error(ck.state() + ": not valid JSON (" + e.what() + "); remove the folder or pass --restart");
+    }
+    require(st.value("config", json()) == fingerprint,
+            ck.state() + ": the checkpoint was made with other settings or data; pass --restart to start over");
+    start_epoch = st.at("epoch").get<int>();
+    load_archive(ck.model(start_epoch), net.module(), dev);
+    load_archive(ck.optim(start_epoch), optim, dev);
+    history = st.value("history", json::array());
+    best_val = st.value("best_validation_cm", -1.0);
+    best_epoch = st.value("best_epoch", -1);
+    sum.resumed_from_epoch = start_epoch;
+    if (opt.progress) std::fprintf(stderr, "[train] resuming after epoch %d from %s\n", start_epoch, ck.dir.c_str());
+  }
+  if (!opt.resume) fs::remove_all(ck.dir);
+  fs::create_directories(ck.dir);
+
+  auto save_checkpoint = [&](int next_epoch) {
+    save_archive(ck.model(next_epoch), net.module());
+    save_archive(ck.optim(next_epoch), optim);
+    json st = {{"epoch", next_epoch}, {"config", fingerprint}, {"history", history},
+               {"best_validation_cm", best_val}, {"best_epoch", best_epoch}};
+    write_file_atomically(ck.state(), [&](std::ostream& o) { o << st.dump(1) << "\n"; });
+    for (const auto& e : fs::directory_iterator(ck.dir)) {
+      const std::string n = e.path().filename().string();
+      const bool current = n == fs::path(ck.model(next_epoch)).filename().string() ||
+                           n == fs::path(ck.optim(next_epoch)).filename().string();
+      if (!current && (n.rfind("model-", 0) == 0 || n.rfind("optimizer-", 0) == 0)) fs::remove(e.path());
+    }
+  };
+
+  const int64_t F = data.train.size();
+  Progress progress("train " + arch.kind, opt.epochs, opt.progress);
+  double epoch_time_total = 0;
+  int epochs_run = 0, since_best = 0;
+  int epoch = start_epoch;
+  net.module().train();
+  for (; epoch < opt.epochs; ++epoch) {
+    const auto t0 = std::chrono::steady_clock::now();
+    // Per-epoch seeds: a resumed run shuffles and samples as an unbroken one would.
+    torch::manual_seed(opt.seed * 1000003ull + uint64_t(epoch));
+    std::mt19937_64 rng(opt.seed * 7919ull + uint64_t(epoch));
+    std::vector<int64_t> order(static_cast<size_t>(F));
+    std::iota(order.begin(), order.end(), 0);
+    std::shuffle(order.begin(), order.end(), rng);
+    const double beta = beta_schedule(epoch, opt.epochs, opt.beta_start, opt.beta_end);
+    double loss_sum = 0;
+    int batches = 0;
+    for (int64_t b = 0; b < F; b += opt.batch_size) {
+      const int64_t n = std::min<int64_t>(opt.batch_size, F - b);
+      const auto idx = torch::from_blob(order.data() + b, {n}, torch::kLong).clone();
+      const auto lr = data.train.lr.index_select(0, idx).to(dev);
+      const auto hr = data.train.hr.index_select(0, idx).to(dev);
+      optim.zero_grad();
+      auto loss = net.loss(lr, hr, opt, beta);
+      require(std::isfinite(loss.item<double>()),
+              "train: the loss became non-finite at epoch " + std::to_string(epoch + 1) +
+                  " (try a lower --lr); the last checkpoint is kept");
+      loss.backward();
+      optim.step();
+      loss_sum += loss.item<double>();
+      ++batches;
+    }
+    const double train_loss = loss_sum / batches;
+    json rec = {{"epoch", epoch + 1}, {"loss", train_loss}, {"beta", beta}};
+    bool improved = false;
+    if (data.validation.size() > 0) {
+      const double v = mean_error_cm(net, data.validation, dev, opt.batch_size);
+      rec["validation_cm"] = v;
+      if (best_val < 0 || v < best_val) {
+        best_val = v;
+        best_epoch = epoch + 1;
+        improved = true;
+        save_archive(ck.best(), net.module());
+      }
+    }
+    history.push_back(rec);
+    since_best = improved || data.validation.size() == 0 ? 0 : since_best + 1;
+    if (epochs_run == 0) sum.first_loss = train_loss;
+    sum.final_loss = train_loss;
+    ++epochs_run;
+    epoch_time_total += seconds_since(t0);
+    char detail[160];
+    std::snprintf(detail, sizeof detail, "loss %.5f%s", train_loss,
+                  rec.contains("validation_cm")
+                      ? (", validation " + std::to_string(rec["validation_cm"].get<double>()) + " cm").c_str()
+                      : "");
+    progress.update(epoch + 1, detail);
+    const bool last = epoch + 1 == opt.epochs;
+    sum.stopped_early = opt.patience > 0 && since_best >= opt.patience;
+    sum.hit_time_limit = opt.time_limit_s > 0 && seconds_since(t_start) >= opt.time_limit_s;
+    if (last || sum.stopped_early || sum.hit_time_limit || (epoch + 1) % opt.checkpoint_every == 0)
+      save_checkpoint(epoch + 1);
+    if (sum.stopped_early || sum.hit_time_limit) {
+      ++epoch;
+      break;
+    }
+  }
+  progress.finish();
+  sum.epochs_done = epoch;
+  sum.finished = epoch >= opt.epochs || sum.stopped_early;
+  sum.best_epoch = best_epoch;
+  sum.best_validation_cm = best_val;
+  sum.train_time_s = seconds_since(t_start);
+  sum.mean_epoch_s = epochs_run ? epoch_time_total / epochs_run : 0;
+
+  // Export the best validation weights when there are any.
+  if (best_epoch > 0 && fs::exists(ck.best())) load_archive(ck.best(), net.module(), dev);
+  net.module().to(torch::kCPU);
+  export_parameters(net.module(), model);
+  model.training = sum.to_json();
+  model.training["options"] = fingerprint;
+  model.training["history"] = history;
+  save_sr_model(opt.out_path, model);
+  return sum;
+}
+
+}  // namespace facesr
