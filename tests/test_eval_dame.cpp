@@ -149,8 +149,7 @@ TEST(EvalDame, MeshesOfDifferentSizeAreAnError) {
   const Points a = hinge(0);
   const Points b = a.topRows(5);
   EXPECT_NE(fixtures::error_of([&] { dame(a, b, hinge_tris()); }).find("vertices"), std::string::npos);
-  EXPECT_NE(fixtures::error_of([&] { mean_normal_angle_deg(a, b, hinge_tris()); }).find("vertices"),
-            std::string::npos);
+  EXPECT_NE(fixtures::error_of([&] { mean_normal_angle_deg(a, b, hinge_tris()); }).find("vertices"), std::string::npos);
 }
 
 TEST(EvalDame, NormalAngleOfARotatedTriangle) {
@@ -160,17 +159,16 @@ TEST(EvalDame, NormalAngleOfARotatedTriangle) {
   F << 0, 1, 2;
   const double a = 30 * M_PI / 180;
   // About an axis in the triangle's plane the normal turns by the full angle...
-  EXPECT_NEAR(mean_normal_angle_deg(V, moved(V, Eigen::AngleAxisd(a, Vec3::UnitX()).toRotationMatrix(), Vec3(1, 2, 3)),
-                                    F),
-              30, 1e-10);
   EXPECT_NEAR(
-      mean_normal_angle_deg(V, moved(V, Eigen::AngleAxisd(a, Vec3(1, 1, 0).normalized()).toRotationMatrix(), Vec3::Zero()),
-                            F),
-      30, 1e-10);
+      mean_normal_angle_deg(V, moved(V, Eigen::AngleAxisd(a, Vec3::UnitX()).toRotationMatrix(), Vec3(1, 2, 3)), F), 30,
+      1e-10);
+  EXPECT_NEAR(mean_normal_angle_deg(
+                  V, moved(V, Eigen::AngleAxisd(a, Vec3(1, 1, 0).normalized()).toRotationMatrix(), Vec3::Zero()), F),
+              30, 1e-10);
   // ...about the normal itself it does not turn.
-  EXPECT_NEAR(mean_normal_angle_deg(V, moved(V, Eigen::AngleAxisd(a, Vec3::UnitZ()).toRotationMatrix(), Vec3::Zero()),
-                                    F),
-              0, 1e-10);
+  EXPECT_NEAR(
+      mean_normal_angle_deg(V, moved(V, Eigen::AngleAxisd(a, Vec3::UnitZ()).toRotationMatrix(), Vec3::Zero()), F), 0,
+      1e-10);
 }
 
 TEST(EvalDame, NormalAngleOfTheBentFaceIsSmallAndPositive) {

@@ -188,10 +188,9 @@ TEST_F(EvalEvaluate, JsonHasTheAgreedKeysAndMarkdownOneRowPerMethod) {
   const auto frames = test_frames(rig);
   EvalOptions o;
   o.basis = &basis();
-  const EvalReport r =
-      evaluate(rig, frames, {offset("ours", frames, 0.01f, 0, 0), offset("embedded", frames, 0, 0.05f, 0),
-                             noisy("vae", frames, 0.02, 5)},
-               o);
+  const EvalReport r = evaluate(
+      rig, frames,
+      {offset("ours", frames, 0.01f, 0, 0), offset("embedded", frames, 0, 0.05f, 0), noisy("vae", frames, 0.02, 5)}, o);
   const nlohmann::json j = r.to_json();
   EXPECT_EQ(j.at("units"), "cm");
   EXPECT_EQ(j.at("test_frames"), kFrames);

@@ -89,14 +89,15 @@ TEST_F(EvalOutputs, CsvHasAHeaderInCmAndOneRowPerFrame) {
 TEST_F(EvalOutputs, CsvRejectsMismatchedTablesWithoutWriting) {
   Table t = sample();
   t.means[1].pop_back();
-  EXPECT_NE(fixtures::error_of([&] { write_frame_error_csv(path("f.csv"), t.frames, t.methods, t.means); })
-                .find("'embedded'"),
+  EXPECT_NE(fixtures::error_of([&] {
+              write_frame_error_csv(path("f.csv"), t.frames, t.methods, t.means);
+            }).find("'embedded'"),
             std::string::npos);
   t = sample();
   t.means[2][3] = std::nan("");
-  EXPECT_NE(fixtures::error_of([&] { write_frame_error_csv(path("f.csv"), t.frames, t.methods, t.means); })
-                .find("frame 3"),
-            std::string::npos);
+  EXPECT_NE(
+      fixtures::error_of([&] { write_frame_error_csv(path("f.csv"), t.frames, t.methods, t.means); }).find("frame 3"),
+      std::string::npos);
   EXPECT_FALSE(fs::exists(path("f.csv")));
   EXPECT_TRUE(fs::is_empty(dir_));
 }
@@ -121,7 +122,7 @@ TEST_F(EvalOutputs, SvgHasOnePolylinePerMethodAxesLegendAndTitle) {
   EXPECT_NE(svg.find(">rbf, tuned</text>"), std::string::npos);  // legend
   EXPECT_NE(svg.find(">fear</text>"), std::string::npos);        // sequence label
   EXPECT_NE(svg.find("stroke=\"#d62728\""), std::string::npos);  // ours in red
-  EXPECT_EQ(count(svg, "stroke-dasharray"), 1u);                  // one sequence boundary
+  EXPECT_EQ(count(svg, "stroke-dasharray"), 1u);                 // one sequence boundary
   EXPECT_EQ(count(svg, "<text"), count(svg, "</text>"));
 }
 

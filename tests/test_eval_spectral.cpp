@@ -11,6 +11,7 @@
 #include "eval/cotan_laplacian.h"
 #include "eval/spectral_basis.h"
 #include "eval/voronoi_mass.h"
+#include "rig/ict_head.h"
 #include "test_support.h"
 
 using namespace facesr;
@@ -47,8 +48,8 @@ const SpectralBasis& face_basis() {
   static const SpectralBasis b = [] {
     const Rig& rig = fixtures::procedural_rig();
     SpectralBasis s = spectral_basis(rig.surface, rig.surface_tris, {50});
-    std::cout << "[ timing ] spectral basis, procedural face (" << rig.surface.rows() << " vertices, k = 50): "
-              << s.seconds << " s\n";
+    std::cout << "[ timing ] spectral basis, procedural face (" << rig.surface.rows()
+              << " vertices, k = 50): " << s.seconds << " s\n";
     return s;
   }();
   return b;
@@ -203,7 +204,8 @@ TEST(EvalSpectral, LowFrequencyFieldsLandInTheLowBand) {
   bounding_box(rig.surface, lo, hi);
   Points smooth(n, 3);
   for (long i = 0; i < n; ++i) {
-    const double u = (rig.surface(i, 0) - lo.x()) / (hi.x() - lo.x()), w = (rig.surface(i, 1) - lo.y()) / (hi.y() - lo.y());
+    const double u = (rig.surface(i, 0) - lo.x()) / (hi.x() - lo.x()),
+                 w = (rig.surface(i, 1) - lo.y()) / (hi.y() - lo.y());
     smooth.row(i) << 0.1 * std::sin(M_PI * u), 0.05 * u * w, -0.2 * w * w;
   }
   const BandSplit ss = band_split(b, smooth);
@@ -256,4 +258,35 @@ TEST(EvalSpectral, DefaultKOnTheProceduralFaceIsQuick) {
             << " /cm^2, cutoff wavelength " << b.cutoff_wavelength_cm() << " cm, area " << b.area_cm2 << " cm^2, "
             << b.components << " component(s)\n";
   EXPECT_LT(b.seconds, 30);
+}
+
+TEST(EvalSpectral, DefaultBasisOnTheIctFace) {
+  if (!fixtures::have_ict()) GTEST_SKIP() << "no ICT FaceKit data at " << fixtures::ict_dir();
+  // The face surface as rig_build() cuts it from the skin: the face vertices
+  // and the skin triangles among them.
+  const HeadSource h = load_ict_head(fixtures::ict_dir(), false);
+  std::vector<int> of_skin(size_t(h.skin.V.rows()), -1);
+  Points V(long(h.face_vertices.size()), 3);
+  for (size_t i = 0; i < h.face_vertices.size(); ++i) {
+    of_skin[size_t(h.face_vertices[i])] = int(i);
+    V.row(long(i)) = h.skin.V.row(h.face_vertices[i]);
+  }
+  std::vector<Vec3i> tris;
+  for (int f = 0; f < h.skin.F.rows(); ++f) {
+    const int a = of_skin[size_t(h.skin.F(f, 0))], b = of_skin[size_t(h.skin.F(f, 1))],
+              c = of_skin[size_t(h.skin.F(f, 2))];
+    if (a >= 0 && b >= 0 && c >= 0) tris.emplace_back(a, b, c);
+  }
+  Tris F(long(tris.size()), 3);
+  for (size_t t = 0; t < tris.size(); ++t) F.row(long(t)) = tris[t].cast<int32_t>().transpose();
+
+  const SpectralBasis b = spectral_basis(V, F);
+  std::cout << "[ timing ] spectral basis, ICT face (" << V.rows() << " vertices, " << F.rows()
+            << " triangles, default k = 100): " << b.seconds << " s, cutoff wavelength " << b.cutoff_wavelength_cm()
+            << " cm, area " << b.area_cm2 << " cm^2\n";
+  const Eigen::MatrixXd G = b.vectors.transpose() * b.mass.asDiagonal() * b.vectors;
+  EXPECT_LT((G - Eigen::MatrixXd::Identity(b.k, b.k)).cwiseAbs().maxCoeff(), 1e-8);
+  EXPECT_NEAR(b.eigenvalues[0], 0, 1e-8);
+  EXPECT_GT(b.eigenvalues[b.components], 1e-4);
+  EXPECT_LT(b.seconds, 60);
 }

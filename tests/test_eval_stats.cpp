@@ -17,7 +17,7 @@ using facesr::fixtures::error_of;
 TEST(EvalStats, SummaryOfAnEvenAndAnOddSet) {
   const ErrorStats s = error_stats({4, 1, 3, 2});
   EXPECT_DOUBLE_EQ(s.mean, 2.5);
-  EXPECT_DOUBLE_EQ(s.median, 2.5);  // mean of the two middle values
+  EXPECT_DOUBLE_EQ(s.median, 2.5);           // mean of the two middle values
   EXPECT_DOUBLE_EQ(s.std, std::sqrt(1.25));  // population: (2.25 + 0.25 + 0.25 + 2.25) / 4
   EXPECT_DOUBLE_EQ(s.max, 4);
   EXPECT_DOUBLE_EQ(s.min, 1);

@@ -19,9 +19,9 @@ Eigen::SparseMatrix<double> cotan_laplacian(const Points& V, const Tris& F) {
   t.reserve(size_t(F.rows()) * 12);
   for (int f = 0; f < F.rows(); ++f) {
     for (int k = 0; k < 3; ++k)
-      require(F(f, k) >= 0 && F(f, k) < n, "cotangent Laplacian: triangle " + std::to_string(f) +
-                                               " refers to vertex " + std::to_string(F(f, k)) + " of " +
-                                               std::to_string(n));
+      if (!(F(f, k) >= 0 && F(f, k) < n))
+        throw Error("cotangent Laplacian: triangle " + std::to_string(f) + " refers to vertex " +
+                    std::to_string(F(f, k)) + " of " + std::to_string(n));
     if (degenerate_triangle(V, F, f)) continue;
     for (int k = 0; k < 3; ++k) {
       // Corner k is opposite the edge (i, j).

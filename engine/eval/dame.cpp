@@ -28,8 +28,8 @@ double dame(const Points& reference, const Points& test, const InteriorEdges& ed
   require(std::isfinite(opt.masking_rad) && opt.masking_rad >= 0, "DAME: masking_rad must be finite and >= 0");
   for (const auto& q : edges.quads)
     for (const int32_t v : q)
-      require(v >= 0 && v < reference.rows(), "DAME: an edge refers to vertex " + std::to_string(v) + " of " +
-                                                  std::to_string(reference.rows()));
+      if (!(v >= 0 && v < reference.rows()))
+        throw Error("DAME: an edge refers to vertex " + std::to_string(v) + " of " + std::to_string(reference.rows()));
   const std::vector<double> ref = oriented_dihedral_angles(reference, edges);
   const std::vector<double> tst = oriented_dihedral_angles(test, edges);
   double num = 0, den = 0;

@@ -15,7 +15,7 @@ ErrorStats error_stats(std::vector<double> values) {
   s.min = s.max = values[0];
   for (size_t i = 0; i < values.size(); ++i) {
     const double v = values[i];
-    require(std::isfinite(v), "error statistics: value " + std::to_string(i) + " is not finite");
+    if (!std::isfinite(v)) throw Error("error statistics: value " + std::to_string(i) + " is not finite");
     sum += v;
     s.min = std::min(s.min, v);
     s.max = std::max(s.max, v);

@@ -33,10 +33,14 @@ nlohmann::json EvalReport::to_json() const {
   if (frames_ours_beats_embedded >= 0) j["frames_ours_beats_embedded"] = frames_ours_beats_embedded;
   nlohmann::json order = nlohmann::json::array();
   for (const MethodReport& m : methods) {
-    nlohmann::json o = {{"mean_cm", m.vertex_cm.mean}, {"median_cm", m.vertex_cm.median},
-                        {"std_cm", m.vertex_cm.std},   {"max_cm", m.vertex_cm.max},
-                        {"min_cm", m.vertex_cm.min},   {"dame", m.dame},
-                        {"normal_deg", m.normal_deg},  {"normalized", stats_json(m.normalized)},
+    nlohmann::json o = {{"mean_cm", m.vertex_cm.mean},
+                        {"median_cm", m.vertex_cm.median},
+                        {"std_cm", m.vertex_cm.std},
+                        {"max_cm", m.vertex_cm.max},
+                        {"min_cm", m.vertex_cm.min},
+                        {"dame", m.dame},
+                        {"normal_deg", m.normal_deg},
+                        {"normalized", stats_json(m.normalized)},
                         {"frame_mean_cm", stats_json(m.frame_cm)}};
     if (spectral) {
       o["low_band_fraction"] = m.bands.low_fraction;
@@ -95,8 +99,8 @@ std::string EvalReport::to_markdown() const {
     << fmt("%.2f", dame.masking_rad)
     << " rad, border edges skipped), mean over frames. Normal: mean angle between area-weighted vertex normals.";
   if (frames_ours_beats_embedded >= 0)
-    s << " Ours has a lower frame mean error than embedded on " << frames_ours_beats_embedded << " of "
-      << frames.size() << " frames.";
+    s << " Ours has a lower frame mean error than embedded on " << frames_ours_beats_embedded << " of " << frames.size()
+      << " frames.";
   if (spectral)
     s << " Low/high band: share of the error's squared area-weighted norm in the first " << spectral_k
       << " eigenvectors of the cotangent Laplacian with Voronoi mass (wavelengths above "

@@ -28,8 +28,7 @@ const std::set<std::string>& reserved_names() {
 }
 
 std::string frame_name(const std::vector<EvalFrame>& frames, size_t f) {
-  return "test frame " + std::to_string(f) + " ('" + frames[f].sequence + "' #" + std::to_string(frames[f].frame) +
-         ")";
+  return "test frame " + std::to_string(f) + " ('" + frames[f].sequence + "' #" + std::to_string(frames[f].frame) + ")";
 }
 
 long first_non_finite(const std::vector<float>& v) {
@@ -73,17 +72,16 @@ void validate(const Rig& rig, const std::vector<EvalFrame>& frames, const std::v
       check_disp(m.predicted_disp[f], M, "evaluate: method '" + m.name + "', " + frame_name(frames, f));
   }
   for (const int p : opt.picture_frames)
-    require(p >= 0 && size_t(p) < frames.size(), "evaluate: picture frame " + std::to_string(p) +
-                                                     " is outside the " + std::to_string(frames.size()) +
-                                                     " test frames");
+    require(p >= 0 && size_t(p) < frames.size(), "evaluate: picture frame " + std::to_string(p) + " is outside the " +
+                                                     std::to_string(frames.size()) + " test frames");
   require(std::isfinite(opt.heat_scale_cm) && opt.heat_scale_cm >= 0,
           "evaluate: the heat scale must be a finite number of cm >= 0 (0: automatic)");
   require(opt.picture_frames.empty() || (opt.tile_width >= 64 && opt.tile_width <= 4096),
           "evaluate: tile width " + std::to_string(opt.tile_width) + " is outside [64, 4096]");
   if (opt.spectral && opt.basis)
     require(opt.basis->num_vertices() == long(M) && opt.basis->k > 0,
-            "evaluate: the spectral basis has " + std::to_string(opt.basis->num_vertices()) +
-                " vertices, but rig '" + rig.name + "' has " + std::to_string(M) + " surface vertices");
+            "evaluate: the spectral basis has " + std::to_string(opt.basis->num_vertices()) + " vertices, but rig '" +
+                rig.name + "' has " + std::to_string(M) + " surface vertices");
   check_output_folder(opt.csv_path, "frame error CSV");
   check_output_folder(opt.svg_path, "frame error plot");
   if (!opt.picture_dir.empty())
@@ -145,7 +143,8 @@ void write_pictures(const Rig& rig, const std::vector<EvalFrame>& frames, const 
     // The HR reference first (error 0), as in fig. 6, then every method.
     pos.push_back(to_float(positions(rig, frames[f].reference_disp)));
     err.emplace_back(M, 0.0f);
-    labels.push_back("HR reference " + frames[f].sequence + " #" + std::to_string(frames[f].frame));
+    // The panel font has no '#'.
+    labels.push_back("HR reference " + frames[f].sequence + " frame " + std::to_string(frames[f].frame));
     for (size_t m = 0; m < methods.size(); ++m) {
       pos.push_back(to_float(positions(rig, methods[m].predicted_disp[f])));
       err.emplace_back(errors[m][p].begin(), errors[m][p].end());
@@ -186,10 +185,10 @@ EvalReport evaluate(const Rig& rig, const std::vector<EvalFrame>& frames, const 
     } else {
       own = spectral_basis(rig.surface, rig.surface_tris, opt.spectral_options);
       basis = &own;
-      report.spectral_seconds = own.seconds;
     }
     report.spectral = true;
     report.spectral_k = basis->k;
+    report.spectral_seconds = basis->seconds;
     report.eigenvalue_k = basis->eigenvalues[basis->k - 1];
     report.cutoff_wavelength_cm = basis->cutoff_wavelength_cm();
     report.spectral_solver = basis->solver;

@@ -34,44 +34,44 @@ struct EvalMethod {
 };
 
 struct EvalOptions {
-  bool spectral = true;               // compute the low/high band split
-  SpectralOptions spectral_options;   // k of the split (when no basis is given)
+  bool spectral = true;              // compute the low/high band split
+  SpectralOptions spectral_options;  // k of the split (when no basis is given)
   // A basis precomputed for this rig (spectral_basis(rig.surface,
   // rig.surface_tris, ...)): it is the same for every evaluation of the rig,
   // so callers evaluating several times should compute it once. Not owned.
   const SpectralBasis* basis = nullptr;
   DameOptions dame;
   // Outputs, each written (atomically) only when its path is non-empty:
-  std::string csv_path;          // frame-wise mean errors (write_frame_error_csv)
-  std::string svg_path;          // fig. 5 plot (frame_error_svg)
+  std::string csv_path;  // frame-wise mean errors (write_frame_error_csv)
+  std::string svg_path;  // fig. 5 plot (frame_error_svg)
   std::string title = "Frame-wise surface reconstruction error on the test frames";
-  std::string picture_dir;       // fig. 6 heat maps, created when missing
+  std::string picture_dir;          // fig. 6 heat maps, created when missing
   std::vector<int> picture_frames;  // indices into the test frames to picture
-  double heat_scale_cm = 0;      // heat scale maximum; 0: the largest error over the pictured frames
-  int tile_width = 360;          // pixels per picture panel
+  double heat_scale_cm = 0;         // heat scale maximum; 0: the largest error over the pictured frames
+  int tile_width = 360;             // pixels per picture panel
 };
 
 struct MethodReport {
   std::string name;
-  ErrorStats vertex_cm;            // per-vertex error over all vertices of all test frames (cm)
+  ErrorStats vertex_cm;               // per-vertex error over all vertices of all test frames (cm)
   std::vector<double> frame_mean_cm;  // per test frame, mean per-vertex error (fig. 5)
-  ErrorStats frame_cm;             // statistics of frame_mean_cm (cm)
-  ErrorStats normalized;           // frame_cm / the common normaliser (table 1)
-  double dame = 0;                 // mean over the test frames (radians)
-  double normal_deg = 0;           // mean over the test frames of mean_normal_angle_deg
-  BandSplit bands;                 // accumulated over the test frames (when spectral)
+  ErrorStats frame_cm;                // statistics of frame_mean_cm (cm)
+  ErrorStats normalized;              // frame_cm / the common normaliser (table 1)
+  double dame = 0;                    // mean over the test frames (radians)
+  double normal_deg = 0;              // mean over the test frames of mean_normal_angle_deg
+  BandSplit bands;                    // accumulated over the test frames (when spectral)
 };
 
 struct EvalReport {
   std::vector<FrameId> frames;
-  std::vector<MethodReport> methods;  // in the order given
-  double normalizer_cm = 0;           // largest frame mean error of any method (table 1)
+  std::vector<MethodReport> methods;    // in the order given
+  double normalizer_cm = 0;             // largest frame mean error of any method (table 1)
   int frames_ours_beats_embedded = -1;  // -1 unless methods "ours" and "embedded" both exist
   DameOptions dame;
   bool spectral = false;
   int spectral_k = 0;
-  double spectral_seconds = 0;        // basis computation time (0 when a basis was given)
-  double eigenvalue_k = 0;            // lambda_k, 1/cm^2
+  double spectral_seconds = 0;  // time the basis took to compute (here or by the caller)
+  double eigenvalue_k = 0;      // lambda_k, 1/cm^2
   double cutoff_wavelength_cm = 0;
   std::string spectral_solver;
   double area_cm2 = 0;

@@ -25,12 +25,12 @@ void check_frame_table(const std::vector<FrameId>& frames, const std::vector<std
   require(frame_means.size() == methods.size(), who + ": " + std::to_string(methods.size()) + " methods but " +
                                                     std::to_string(frame_means.size()) + " columns of errors");
   for (size_t m = 0; m < methods.size(); ++m) {
-    require(frame_means[m].size() == frames.size(),
-            who + ": method '" + methods[m] + "' has " + std::to_string(frame_means[m].size()) + " frame errors for " +
-                std::to_string(frames.size()) + " test frames");
+    require(frame_means[m].size() == frames.size(), who + ": method '" + methods[m] + "' has " +
+                                                        std::to_string(frame_means[m].size()) + " frame errors for " +
+                                                        std::to_string(frames.size()) + " test frames");
     for (size_t f = 0; f < frames.size(); ++f)
-      require(std::isfinite(frame_means[m][f]), who + ": method '" + methods[m] + "', frame " + std::to_string(f) +
-                                                    ": the error is not finite");
+      if (!std::isfinite(frame_means[m][f]))
+        throw Error(who + ": method '" + methods[m] + "', frame " + std::to_string(f) + ": the error is not finite");
   }
 }
 

@@ -19,11 +19,21 @@ std::string xml_escape(const std::string& s) {
   std::string r;
   for (const char c : s) {
     switch (c) {
-      case '&': r += "&amp;"; break;
-      case '<': r += "&lt;"; break;
-      case '>': r += "&gt;"; break;
-      case '"': r += "&quot;"; break;
-      case '\'': r += "&apos;"; break;
+      case '&':
+        r += "&amp;";
+        break;
+      case '<':
+        r += "&lt;";
+        break;
+      case '>':
+        r += "&gt;";
+        break;
+      case '"':
+        r += "&quot;";
+        break;
+      case '\'':
+        r += "&apos;";
+        break;
       default:
         // Control characters are not allowed in XML 1.0 text.
         if (static_cast<unsigned char>(c) >= 0x20 || c == '\t') r += c;
@@ -85,12 +95,15 @@ std::string frame_error_svg(const std::vector<FrameId>& frames, const std::vecto
 
   // Grid and y ticks.
   s << "<g stroke=\"#e0e0e0\" stroke-width=\"1\">\n";
-  for (double v = 0; v <= ymax * (1 + 1e-9); v += ystep)
-    s << "<line x1=\"" << num(kLeft) << "\" y1=\"" << num(Y(v)) << "\" x2=\"" << num(kLeft + pw) << "\" y2=\""
-      << num(Y(v)) << "\"/>\n";
+  // Ticks at whole multiples of the step: accumulating it would print 0.30000000000000004.
+  const int yticks = int(std::lround(ymax / ystep));
+  for (int t = 0; t <= yticks; ++t)
+    s << "<line x1=\"" << num(kLeft) << "\" y1=\"" << num(Y(t * ystep)) << "\" x2=\"" << num(kLeft + pw) << "\" y2=\""
+      << num(Y(t * ystep)) << "\"/>\n";
   s << "</g>\n<g text-anchor=\"end\">\n";
-  for (double v = 0; v <= ymax * (1 + 1e-9); v += ystep)
-    s << "<text x=\"" << num(kLeft - 8) << "\" y=\"" << num(Y(v) + 4) << "\">" << tick_label(v) << "</text>\n";
+  for (int t = 0; t <= yticks; ++t)
+    s << "<text x=\"" << num(kLeft - 8) << "\" y=\"" << num(Y(t * ystep) + 4) << "\">" << tick_label(t * ystep)
+      << "</text>\n";
   s << "</g>\n";
 
   // x ticks: whole frame indices.
@@ -151,8 +164,8 @@ std::string frame_error_svg(const std::vector<FrameId>& frames, const std::vecto
 }
 
 void write_frame_error_svg(const std::string& path, const std::vector<FrameId>& frames,
-                           const std::vector<std::string>& methods,
-                           const std::vector<std::vector<double>>& frame_means, const std::string& title) {
+                           const std::vector<std::string>& methods, const std::vector<std::vector<double>>& frame_means,
+                           const std::string& title) {
   const std::string svg = frame_error_svg(frames, methods, frame_means, title);
   write_file_atomically(path, [&](std::ostream& out) { out << svg; });
 }

@@ -18,8 +18,8 @@ std::string frame_error_svg(const std::vector<FrameId>& frames, const std::vecto
 
 // The same, written atomically to `path`.
 void write_frame_error_svg(const std::string& path, const std::vector<FrameId>& frames,
-                           const std::vector<std::string>& methods,
-                           const std::vector<std::vector<double>>& frame_means, const std::string& title);
+                           const std::vector<std::string>& methods, const std::vector<std::vector<double>>& frame_means,
+                           const std::string& title);
 
 // A step of 1, 2 or 5 times a power of ten that cuts `range` into about
 // `target` intervals (the tick spacing of the plot axes).

@@ -20,11 +20,11 @@ InteriorEdges interior_edges(const Tris& F, long num_vertices) {
   h.reserve(size_t(F.rows()) * 3);
   for (int f = 0; f < F.rows(); ++f) {
     for (int k = 0; k < 3; ++k)
-      require(F(f, k) >= 0 && F(f, k) < num_vertices,
-              "interior edges: triangle " + std::to_string(f) + " refers to vertex " + std::to_string(F(f, k)) +
-                  " of " + std::to_string(num_vertices));
-    require(F(f, 0) != F(f, 1) && F(f, 1) != F(f, 2) && F(f, 2) != F(f, 0),
-            "interior edges: triangle " + std::to_string(f) + " repeats a vertex");
+      if (!(F(f, k) >= 0 && F(f, k) < num_vertices))
+        throw Error("interior edges: triangle " + std::to_string(f) + " refers to vertex " + std::to_string(F(f, k)) +
+                    " of " + std::to_string(num_vertices));
+    if (!(F(f, 0) != F(f, 1) && F(f, 1) != F(f, 2) && F(f, 2) != F(f, 0)))
+      throw Error("interior edges: triangle " + std::to_string(f) + " repeats a vertex");
     for (int k = 0; k < 3; ++k) {
       const int32_t a = F(f, k), b = F(f, (k + 1) % 3), c = F(f, (k + 2) % 3);
       h.push_back({std::min(a, b), std::max(a, b), a, b, c, f});

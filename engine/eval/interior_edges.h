@@ -18,9 +18,9 @@ struct InteriorEdges {
   // outside); a and b are the vertices opposite the edge.
   std::vector<std::array<int32_t, 4>> quads;
   std::vector<std::array<int32_t, 2>> faces;  // the triangles (i, j, a) and (j, i, b)
-  long border = 0;        // edges with one triangle
-  long non_manifold = 0;  // edges with three or more triangles
-  long flipped = 0;       // two triangles traversing the edge the same way
+  long border = 0;                            // edges with one triangle
+  long non_manifold = 0;                      // edges with three or more triangles
+  long flipped = 0;                           // two triangles traversing the edge the same way
 
   long size() const { return long(quads.size()); }
 };

@@ -70,9 +70,9 @@ void solve_lanczos(const SpMat& L, const Eigen::VectorXd& m, double area, int k,
       solver(op, bop, k, ncv, sigma);
   solver.init();
   solver.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10, Spectra::SortRule::SmallestAlge);
-  require(solver.info() == Spectra::CompInfo::Successful,
-          "spectral basis: the shift-invert Lanczos solve for " + std::to_string(k) +
-              " eigenvectors did not converge (try a smaller k)");
+  require(solver.info() == Spectra::CompInfo::Successful, "spectral basis: the shift-invert Lanczos solve for " +
+                                                              std::to_string(k) +
+                                                              " eigenvectors did not converge (try a smaller k)");
   values = solver.eigenvalues();
   vecs = solver.eigenvectors();
 }
@@ -103,8 +103,8 @@ SpectralBasis spectral_basis(const Points& V, const Tris& F, const SpectralOptio
   const long n = long(active.size());
   b.active_vertices = n;
   require(opt.k >= 1 && opt.k <= n - 1, "spectral basis: k = " + std::to_string(opt.k) + " is outside [1, " +
-                                             std::to_string(n - 1) + "] for a surface of " + std::to_string(n) +
-                                             " vertices with area");
+                                            std::to_string(n - 1) + "] for a surface of " + std::to_string(n) +
+                                            " vertices with area");
   b.k = opt.k;
 
   std::vector<int> tri_ok;

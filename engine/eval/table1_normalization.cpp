@@ -15,8 +15,9 @@ double table1_normalizer(const std::vector<std::vector<double>>& frame_means) {
     require(!frame_means[m].empty(), "table 1 normalisation: method " + std::to_string(m) + " has no frames");
     for (size_t f = 0; f < frame_means[m].size(); ++f) {
       const double v = frame_means[m][f];
-      require(std::isfinite(v) && v >= 0, "table 1 normalisation: method " + std::to_string(m) + ", frame " +
-                                               std::to_string(f) + ": frame mean error is not a finite value >= 0");
+      if (!(std::isfinite(v) && v >= 0))
+        throw Error("table 1 normalisation: method " + std::to_string(m) + ", frame " + std::to_string(f) +
+                    ": frame mean error is not a finite value >= 0");
       mx = std::max(mx, v);
     }
   }

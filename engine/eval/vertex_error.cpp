@@ -23,7 +23,8 @@ std::vector<double> vertex_error(const std::vector<float>& predicted_disp, const
       s += e * e;
     }
     d[v] = std::sqrt(s);
-    require(std::isfinite(d[v]), who + ": vertex " + std::to_string(v) + " has a non-finite displacement");
+    // Not require(): it would build the message for every vertex of every frame.
+    if (!std::isfinite(d[v])) throw Error(who + ": vertex " + std::to_string(v) + " has a non-finite displacement");
   }
   return d;
 }

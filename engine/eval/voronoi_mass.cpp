@@ -11,9 +11,9 @@ Eigen::VectorXd voronoi_mass(const Points& V, const Tris& F) {
   Eigen::VectorXd m = Eigen::VectorXd::Zero(V.rows());
   for (int f = 0; f < F.rows(); ++f) {
     for (int k = 0; k < 3; ++k)
-      require(F(f, k) >= 0 && F(f, k) < V.rows(), "Voronoi mass: triangle " + std::to_string(f) +
-                                                      " refers to vertex " + std::to_string(F(f, k)) + " of " +
-                                                      std::to_string(V.rows()));
+      if (!(F(f, k) >= 0 && F(f, k) < V.rows()))
+        throw Error("Voronoi mass: triangle " + std::to_string(f) + " refers to vertex " + std::to_string(F(f, k)) +
+                    " of " + std::to_string(V.rows()));
     if (degenerate_triangle(V, F, f)) continue;
     const int id[3] = {F(f, 0), F(f, 1), F(f, 2)};
     Vec3 p[3];
