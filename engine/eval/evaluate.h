@@ -41,7 +41,11 @@ struct EvalOptions {
   // so callers evaluating several times should compute it once. Not owned.
   const SpectralBasis* basis = nullptr;
   DameOptions dame;
-  // Outputs, each written (atomically) only when its path is non-empty:
+  // Outputs, each written (atomically) only when its path is non-empty. The
+  // folders of csv_path and svg_path must exist; picture_dir is created. The
+  // pictures are picture_dir/error_<sequence>_<frame>.png (sequence names
+  // reduced to [A-Za-z0-9_-]), one panel for the HR reference and one per
+  // method, all on one heat scale.
   std::string csv_path;  // frame-wise mean errors (write_frame_error_csv)
   std::string svg_path;  // fig. 5 plot (frame_error_svg)
   std::string title = "Frame-wise surface reconstruction error on the test frames";
