@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "sr/positional_encoding.h"
+#include "train/interpolate.h"
 
 namespace facesr {
 
@@ -45,7 +46,7 @@ SrNetworkImpl::SrNetworkImpl(const SrArchitecture& arch, const SrGeometry& g)
   require(g.graph_k == arch.graph_k && g.upsample_k == arch.upsample_k,
           "SrNetwork: the geometry's k values differ from the architecture's");
   pe_ = register_buffer("pe", float_tensor(positional_encoding(int(N_), arch.pe_dim), {N_, arch.pe_dim}));
-  graph_ = register_buffer("graph", long_tensor(g.lr_graph, {N_, arch.graph_k}));
+  graph_ = long_tensor(g.lr_graph, {N_, arch.graph_k});
 
   if (arch.feature_encoding) {
     int64_t in = arch.input_dim();
@@ -59,7 +60,7 @@ SrNetworkImpl::SrNetworkImpl(const SrArchitecture& arch, const SrGeometry& g)
   }
 
   if (arch.coordinate_upsampling) {
-    up_index_ = register_buffer("up_index", long_tensor(g.up_index, {M_, K_}));
+    up_index_ = long_tensor(g.up_index, {M_, K_});
     // u_ij = [x^H_j, x^L_i, ‖x^L_i − x^H_j‖] (eq. 2) in the normalised frame.
     std::vector<float> u(size_t(M_ * K_ * 7));
     const double s = arch.coord_scale;
@@ -79,11 +80,10 @@ SrNetworkImpl::SrNetworkImpl(const SrArchitecture& arch, const SrGeometry& g)
     up_input_ = register_buffer("up_input", float_tensor(u, {M_, K_, 7}));
     weight_net_ = register_module("weight_net", Siren(7, arch.weight_hidden, 1, arch.omega0));
   } else {
-    up_index_ = register_buffer("up_index", long_tensor(g.euclid_index, {M_, K_}));
+    up_index_ = long_tensor(g.euclid_index, {M_, K_});
     // Zero logits: uniform weights at the start, as the softmax of equal values.
     free_weights_ = register_parameter("free_weights", torch::zeros({M_, K_}));
   }
-  sparse_rows_ = register_buffer("sparse_rows", torch::arange(M_).view({M_, 1}).expand({M_, K_}).reshape({-1}));
   recon_ = register_module("recon", Siren(arch.encoded_dim(), arch.recon_hidden, 3, arch.omega0));
 }
 
@@ -92,6 +92,10 @@ torch::Tensor SrNetworkImpl::encode(const torch::Tensor& lr_disp, std::vector<to
   require(lr_disp.dim() == 3 && lr_disp.size(1) == N_ && lr_disp.size(2) == 3,
           "SrNetwork: input must be B × " + std::to_string(N_) + " × 3");
   const auto x0 = torch::cat({lr_disp / arch_.input_scale, pe_.unsqueeze(0).expand({B, N_, arch_.pe_dim})}, 2);
+  if (graph_.device() != lr_disp.device()) {
+    graph_ = graph_.to(lr_disp.device());
+    up_index_ = up_index_.to(lr_disp.device());
+  }
   std::vector<torch::Tensor> parts{x0};
   torch::Tensor h = x0;
   for (size_t s = 0; s < blocks_.size(); ++s) {
@@ -111,13 +115,7 @@ torch::Tensor SrNetworkImpl::upsample_weights() {
 }
 
 torch::Tensor SrNetworkImpl::interpolate(const torch::Tensor& w, const torch::Tensor& f) {
-  // A sparse M × N matrix product: one pass over the M·K weights, and its
-  // backward gives both the features' and the weights' gradients.
-  const int64_t B = f.size(0), C = f.size(2);
-  const auto ind = torch::stack({sparse_rows_, up_index_.reshape({-1})});
-  const auto W = torch::sparse_coo_tensor(ind, w.reshape({-1}), {M_, N_});
-  const auto cols = f.permute({1, 0, 2}).reshape({N_, B * C});
-  return torch::mm(W, cols).view({M_, B, C}).permute({1, 0, 2});
+  return interpolate_neighbours(w, up_index_, f);
 }
 
 SrNetworkImpl::Output SrNetworkImpl::forward(const torch::Tensor& lr_disp) {

@@ -40,7 +40,10 @@ class SrNetworkImpl : public torch::nn::Module {
 
   SrArchitecture arch_;
   int64_t N_, M_, K_;
-  torch::Tensor pe_, graph_, up_index_, up_input_, sparse_rows_;
+  // Index tensors are plain members, not buffers: Module::to(dtype) would
+  // convert registered buffers to floating point. They follow the input's
+  // device in encode().
+  torch::Tensor pe_, graph_, up_index_, up_input_;
   std::vector<EdgeConvBlock> blocks_;
   Siren weight_net_{nullptr}, recon_{nullptr};
   torch::Tensor free_weights_;

@@ -38,6 +38,8 @@ json TrainSummary::to_json() const {
           {"parameters", parameters},
           {"first_loss", first_loss},
           {"final_loss", final_loss},
+          {"first_l1_cm", first_l1_cm},
+          {"final_l1_cm", final_l1_cm},
           {"best_validation_cm", best_validation_cm},
           {"train_time_s", train_time_s},
           {"mean_epoch_s", mean_epoch_s},
@@ -56,12 +58,20 @@ struct Net {
   torch::Tensor rest, tris;  // for the face-normal loss
 
   torch::nn::Module& module() { return sr ? static_cast<torch::nn::Module&>(*sr) : *vae; }
-  torch::Tensor loss(const torch::Tensor& lr, const torch::Tensor& hr, const TrainOptions& o, double beta) {
+  // The loss to minimise, and (in `l1_cm`) the mean L1 error per HR vertex
+  // of the batch, which stays comparable while β changes the total.
+  torch::Tensor loss(const torch::Tensor& lr, const torch::Tensor& hr, const TrainOptions& o, double beta,
+                     double& l1_cm) {
+    const double BM = double(hr.size(0) * hr.size(1));
     if (sr) {
       auto out = sr->forward(lr);
-      return sr_loss(out.hr_disp, hr, rest, tris, out.features, o.alpha, beta).total;
+      const LossTerms t = sr_loss(out.hr_disp, hr, rest, tris, out.features, o.alpha, beta);
+      l1_cm = t.recon.item<double>() * double(hr.size(0)) / BM;
+      return t.total;
     }
-    return vae_loss(vae->forward(lr, true), hr, vae->arch().output_scale, o.vae_beta) / double(hr.size(1));
+    auto out = vae->forward(lr, true);
+    l1_cm = (out.hr_disp - hr).abs().sum().item<double>() / BM;
+    return vae_loss(out, hr, vae->arch().output_scale, o.vae_beta) / double(hr.size(1));
   }
   torch::Tensor predict(const torch::Tensor& lr) {
     return sr ? sr->forward(lr).hr_disp : vae->forward(lr, false).hr_disp;
@@ -253,7 +263,7 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
     std::iota(order.begin(), order.end(), 0);
     std::shuffle(order.begin(), order.end(), rng);
     const double beta = beta_schedule(epoch, opt.epochs, opt.beta_start, opt.beta_end);
-    double loss_sum = 0;
+    double loss_sum = 0, l1_sum = 0;
     int batches = 0;
     for (int64_t b = 0; b < F; b += opt.batch_size) {
       const int64_t n = std::min<int64_t>(opt.batch_size, F - b);
@@ -261,17 +271,19 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
       const auto lr = data.train.lr.index_select(0, idx).to(dev);
       const auto hr = data.train.hr.index_select(0, idx).to(dev);
       optim.zero_grad();
-      auto loss = net.loss(lr, hr, opt, beta);
+      double l1 = 0;
+      auto loss = net.loss(lr, hr, opt, beta, l1);
       require(std::isfinite(loss.item<double>()),
               "train: the loss became non-finite at epoch " + std::to_string(epoch + 1) +
                   " (try a lower --lr); the last checkpoint is kept");
       loss.backward();
       optim.step();
       loss_sum += loss.item<double>();
+      l1_sum += l1;
       ++batches;
     }
-    const double train_loss = loss_sum / batches;
-    json rec = {{"epoch", epoch + 1}, {"loss", train_loss}, {"beta", beta}};
+    const double train_loss = loss_sum / batches, train_l1 = l1_sum / batches;
+    json rec = {{"epoch", epoch + 1}, {"loss", train_loss}, {"l1_cm", train_l1}, {"beta", beta}};
     bool improved = false;
     if (data.validation.size() > 0) {
       const double v = mean_error_cm(net, data.validation, dev, opt.batch_size);
@@ -285,12 +297,16 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
     }
     history.push_back(rec);
     since_best = improved || data.validation.size() == 0 ? 0 : since_best + 1;
-    if (epochs_run == 0) sum.first_loss = train_loss;
+    if (epochs_run == 0) {
+      sum.first_loss = train_loss;
+      sum.first_l1_cm = train_l1;
+    }
     sum.final_loss = train_loss;
+    sum.final_l1_cm = train_l1;
     ++epochs_run;
     epoch_time_total += seconds_since(t0);
     char detail[160];
-    std::snprintf(detail, sizeof detail, "loss %.5f%s", train_loss,
+    std::snprintf(detail, sizeof detail, "loss %.5f, L1 %.4f cm/vertex%s", train_loss, train_l1,
                   rec.contains("validation_cm")
                       ? (", validation " + std::to_string(rec["validation_cm"].get<double>()) + " cm").c_str()
                       : "");

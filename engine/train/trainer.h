@@ -40,6 +40,9 @@ struct TrainSummary {
   int train_frames = 0, validation_frames = 0;
   int64_t parameters = 0;
   double first_loss = 0, final_loss = 0;  // training loss of the first and last epoch run
+  // Mean L1 error per HR vertex on the training batches of those epochs (cm);
+  // unlike the loss it does not grow with the β ramp.
+  double first_l1_cm = 0, final_l1_cm = 0;
   double best_validation_cm = -1;         // mean per-vertex error on the validation frames
   double train_time_s = 0, mean_epoch_s = 0;
   bool stopped_early = false, hit_time_limit = false, finished = false;

@@ -1,0 +1,191 @@
+// Training end to end on a tiny dataset of the procedural head: the loss
+// falls, a resumed run equals an unbroken one, the exported model file
+// round-trips and refuses the wrong rig or a damaged file, and the CLI.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/binary_io.h"
+#include "dataset/generate.h"
+#include "rig/rig_io.h"
+#include "sr/sr_model.h"
+#include "test_support.h"
+#include "train/torch_predictor.h"
+#include "train/trainer.h"
+#include "train/training_data.h"
+
+namespace facesr {
+namespace {
+
+namespace fs = std::filesystem;
+
+class TrainTiny : public fixtures::ScratchSuite<TrainTiny> {
+ public:
+  static constexpr const char* kScratch = "facesr_train_";
+
+ protected:
+  static void SetUpTestSuite() {
+    ScratchSuite::SetUpTestSuite();
+    DatasetOptions o;
+    o.builtins = {"pain", "anger"};
+    o.max_frames = 12;
+    o.progress = false;
+    generate_dataset(fixtures::procedural_rig(), path("p.rig"), path("data"), o);
+  }
+  static SrArchitecture arch() {
+    SrArchitecture a;
+    a.pe_dim = 8;
+    a.encoder_dims = {8, 16};
+    a.weight_hidden = {8};
+    a.recon_hidden = {32, 32};
+    return a;
+  }
+  static TrainOptions options(const std::string& out, int epochs) {
+    TrainOptions o;
+    o.dataset_dir = path("data");
+    o.out_path = path(out);
+    o.epochs = epochs;
+    o.learning_rate = 1e-3;
+    o.validation_every = 4;
+    o.checkpoint_every = 2;
+    o.progress = false;
+    o.device = "cpu";
+    return o;
+  }
+};
+
+TEST_F(TrainTiny, DatasetSplitHoldsOutValidationFramesAndKeepsTheTestSplitApart) {
+  const DatasetSplit s = load_dataset_split(path("data"), rig_checksum(fixtures::procedural_rig()), 4);
+  EXPECT_EQ(s.train.size(), 9);  // pain: 12 frames, every 4th held out
+  EXPECT_EQ(s.validation.size(), 3);
+  EXPECT_EQ(s.test.size(), 12);  // anger
+  for (const auto& n : s.test.sequence) EXPECT_EQ(n, "anger");
+  EXPECT_EQ(s.train.lr.size(1), s.num_lr);
+  EXPECT_EQ(s.train.hr.size(1), s.num_hr);
+  const std::string e = fixtures::error_of([&] { load_dataset_split(path("data"), 12345, 4); });
+  EXPECT_NE(e.find("not from this rig"), std::string::npos) << e;
+}
+
+TEST_F(TrainTiny, LossFallsAndTheModelFileReproducesTheNetwork) {
+  const TrainSummary s = train_model(fixtures::procedural_rig(), arch(), options("m.fsm", 8));
+  EXPECT_TRUE(s.finished);
+  EXPECT_EQ(s.epochs_done, 8);
+  EXPECT_LT(s.final_l1_cm, 0.7 * s.first_l1_cm) << "first " << s.first_l1_cm << " final " << s.final_l1_cm;
+  EXPECT_GT(s.best_validation_cm, 0);
+  ASSERT_TRUE(fs::exists(path("m.fsm")));
+
+  const SrModel m = load_sr_model(path("m.fsm"));
+  EXPECT_EQ(m.rig_checksum, rig_checksum(fixtures::procedural_rig()));
+  EXPECT_EQ(m.arch.recon_hidden, arch().recon_hidden);
+  EXPECT_GT(m.arch.input_scale, 0);
+  EXPECT_EQ(m.training.value("epochs", 0), 8);
+  // Saved and reloaded bytes give the same model.
+  save_sr_model(path("copy.fsm"), m);
+  EXPECT_EQ(read_file_bytes(path("copy.fsm")), read_file_bytes(path("m.fsm")));
+
+  // The reloaded network predicts the validation frames with the error the
+  // trainer measured for its best epoch (the exported weights).
+  const DatasetSplit d = load_dataset_split(path("data"), m.rig_checksum, 4);
+  TorchPredictor p(m);
+  const auto pred = p.predict(d.validation.lr);
+  const double err = (pred - d.validation.hr).norm(2, 2).mean().item<double>();
+  EXPECT_NEAR(err, s.best_validation_cm, 1e-5);
+}
+
+TEST_F(TrainTiny, ResumedTrainingEqualsAnUnbrokenRun) {
+  train_model(fixtures::procedural_rig(), arch(), options("whole.fsm", 4));
+  TrainOptions cut = options("cut.fsm", 4);
+  cut.time_limit_s = 1e-9;  // stops (with a checkpoint) after its first epoch
+  const TrainSummary first = train_model(fixtures::procedural_rig(), arch(), cut);
+  EXPECT_TRUE(first.hit_time_limit);
+  EXPECT_EQ(first.epochs_done, 1);
+  cut.time_limit_s = 0;
+  const TrainSummary rest = train_model(fixtures::procedural_rig(), arch(), cut);
+  EXPECT_EQ(rest.resumed_from_epoch, 1);
+  EXPECT_EQ(rest.epochs_done, 4);
+  const SrModel a = load_sr_model(path("whole.fsm")), b = load_sr_model(path("cut.fsm"));
+  ASSERT_EQ(a.tensors.size(), b.tensors.size());
+  for (size_t i = 0; i < a.tensors.size(); ++i) EXPECT_EQ(a.tensors[i].values, b.tensors[i].values) << a.tensors[i].name;
+
+  // Other settings do not silently resume from that checkpoint.
+  TrainOptions other = cut;
+  other.learning_rate = 5e-4;
+  const std::string e = fixtures::error_of([&] { train_model(fixtures::procedural_rig(), arch(), other); });
+  EXPECT_NE(e.find("other settings"), std::string::npos) << e;
+}
+
+TEST_F(TrainTiny, VaeBaselineTrains) {
+  SrArchitecture v;
+  v.kind = "vae";
+  v.vae_encoder = {64, 32};
+  v.vae_latent = 8;
+  v.vae_decoder = {32, 64};
+  TrainOptions o = options("vae.fsm", 6);
+  const TrainSummary s = train_model(fixtures::procedural_rig(), v, o);
+  EXPECT_LT(s.final_l1_cm, s.first_l1_cm);
+  const SrModel m = load_sr_model(path("vae.fsm"));
+  EXPECT_EQ(m.arch.kind, "vae");
+  EXPECT_TRUE(m.geometry.up_index.empty());
+  TorchPredictor p(m);
+  const DatasetSplit d = load_dataset_split(path("data"), m.rig_checksum, 4);
+  // Deterministic at evaluation (the latent mean, not a sample).
+  EXPECT_TRUE(torch::equal(p.predict(d.test.lr), p.predict(d.test.lr)));
+}
+
+TEST_F(TrainTiny, ModelFileErrorsNameTheProblem) {
+  train_model(fixtures::procedural_rig(), arch(), options("e.fsm", 1));
+  const SrModel m = load_sr_model(path("e.fsm"));
+  // Wrong rig.
+  std::string e = fixtures::error_of([&] {
+    require_model_matches_rig(m, m.rig_checksum ^ 1, m.num_lr, m.num_hr, "e.fsm", "rig 'other'");
+  });
+  EXPECT_NE(e.find("was trained on rig"), std::string::npos) << e;
+  // Corrupt: one flipped byte in the middle.
+  auto bytes = read_file_bytes(path("e.fsm"));
+  auto write = [&](const std::string& name, const std::vector<uint8_t>& b) {
+    std::ofstream(path(name), std::ios::binary).write(reinterpret_cast<const char*>(b.data()), std::streamsize(b.size()));
+  };
+  auto flipped = bytes;
+  flipped[flipped.size() / 2] ^= 0x40;
+  write("flipped.fsm", flipped);
+  e = fixtures::error_of([&] { load_sr_model(path("flipped.fsm")); });
+  EXPECT_NE(e.find("corrupt"), std::string::npos) << e;
+  // Truncated.
+  write("short.fsm", std::vector<uint8_t>(bytes.begin(), bytes.begin() + long(bytes.size() / 3)));
+  e = fixtures::error_of([&] { load_sr_model(path("short.fsm")); });
+  EXPECT_NE(e.find("short.fsm"), std::string::npos) << e;
+  // Not a model.
+  write("rig.fsm", read_file_bytes(path("p.rig")));
+  e = fixtures::error_of([&] { load_sr_model(path("rig.fsm")); });
+  EXPECT_NE(e.find("not a facesr model"), std::string::npos) << e;
+  e = fixtures::error_of([&] { load_sr_model(path("missing.fsm")); });
+  EXPECT_NE(e.find("cannot open"), std::string::npos) << e;
+  // A model whose tensors disagree with its architecture is refused on save.
+  SrModel bad = m;
+  bad.tensors.back().values.pop_back();
+  e = fixtures::error_of([&] { save_sr_model(path("bad.fsm"), bad); });
+  EXPECT_NE(e.find("parameter"), std::string::npos) << e;
+  EXPECT_FALSE(fs::exists(path("bad.fsm")));
+}
+
+TEST_F(TrainTiny, CliTrainsAndRejectsBadInput) {
+  auto r = run("train --rig " + q("p.rig") + " --dataset " + q("data") + " -o " + q("cli.fsm") +
+               " --epochs 2 --encoder-dims 8,8 --recon-hidden 16 --weight-hidden 8 --pe-dim 8 --json -q");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* k : {"epochs", "first_loss", "final_loss", "best_validation_cm", "train_time_s", "mean_epoch_s",
+                        "parameters", "device", "units"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  EXPECT_EQ(j["epochs"], 2);
+  r = run("train --rig " + q("p.rig") + " --dataset " + q("nowhere") + " -o " + q("x.fsm") + " -q");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("nowhere"), std::string::npos) << r.err;
+  r = run("train --rig " + q("p.rig") + " --dataset " + q("data") + " -o " + q("x.fsm") + " --recon-hidden 8,x -q");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("--recon-hidden"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("x.fsm")));
+}
+
+}  // namespace
+}  // namespace facesr
