@@ -7,13 +7,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <functional>
 #include <iostream>
 #include <limits>
 #include <random>
 #include <set>
 
+#include "baselines/mls.h"
+#include "baselines/rbf.h"
 #include "mesh/tri_mesh.h"
+#include "rig/rig_io.h"
 #include "sim/sim_model.h"
 #include "sr/graph_dijkstra.h"
 #include "sr/linear_assignment.h"
@@ -189,7 +194,8 @@ TEST(LinearAssignment, MoreRowsThanColumnsAssignsEveryColumn) {
         EXPECT_NEAR(total, sum, 1e-12);
         std::vector<double> Ct(C.size());
         for (int r = 0; r < rows; ++r)
-          for (int c = 0; c < cols; ++c) Ct[size_t(c) * size_t(rows) + size_t(r)] = C[size_t(r) * size_t(cols) + size_t(c)];
+          for (int c = 0; c < cols; ++c)
+            Ct[size_t(c) * size_t(rows) + size_t(r)] = C[size_t(r) * size_t(cols) + size_t(c)];
         ASSERT_NEAR(sum, brute_force_assignment(Ct, cols, rows), 1e-9);
       }
 }
@@ -247,7 +253,8 @@ TEST(GraphDijkstra, GridDistancesAreKnown) {
       const int vi = v % (n + 1), vj = v / (n + 1);
       // Diagonals only go up-right/down-left, so the path needs both signs alike.
       const int di = vi - si, dj = vj - sj;
-      const double want = (di >= 0) == (dj >= 0) ? grid_distance(std::abs(di), std::abs(dj)) : std::abs(di) + std::abs(dj);
+      const double want =
+          (di >= 0) == (dj >= 0) ? grid_distance(std::abs(di), std::abs(dj)) : std::abs(di) + std::abs(dj);
       ASSERT_NEAR(d[size_t(v)], want, 1e-12) << "source " << src << " vertex " << v;
     }
   }
@@ -269,14 +276,15 @@ TEST(GraphDijkstra, NearestTargetsMatchFullDistances) {
       std::set<int> got;
       for (size_t s = 0; s < nb.size(); ++s) {
         ASSERT_TRUE(target[size_t(nb[s].vertex)]);
-        if (skip) ASSERT_NE(nb[s].vertex, src);
+        if (skip) { ASSERT_NE(nb[s].vertex, src); }
         ASSERT_NEAR(nb[s].dist, full[size_t(nb[s].vertex)], 1e-12);
-        if (s > 0) ASSERT_GE(nb[s].dist, nb[s - 1].dist);
+        if (s > 0) { ASSERT_GE(nb[s].dist, nb[s - 1].dist); }
         got.insert(nb[s].vertex);
       }
       for (int v = 0; v < G.num_vertices(); ++v)
-        if (target[size_t(v)] && !got.count(v) && !(skip && v == src))
+        if (target[size_t(v)] && !got.count(v) && !(skip && v == src)) {
           ASSERT_GE(full[size_t(v)], nb.back().dist - 1e-12) << "missed closer target " << v;
+        }
     }
 }
 
@@ -386,13 +394,15 @@ TEST(SrGeometry, AssignmentIsInjectiveAndLocallyOptimal) {
   for (int trial = 0; trial < 20000; ++trial) {
     const int a = int(rng() % N), b = int(rng() % N);
     const int ja = g.lr_to_hr[size_t(a)], jb = g.lr_to_hr[size_t(b)];
-    if (ja >= 0 && jb >= 0)
+    if (ja >= 0 && jb >= 0) {
       ASSERT_GE(cost(a, jb) + cost(b, ja), cost(a, ja) + cost(b, jb) - 1e-5) << a << " " << b;
-    else if (ja >= 0 && jb < 0)  // b is free: it must not be closer to ja
+    } else if (ja >= 0 && jb < 0) {  // b is free: it must not be closer to ja
       ASSERT_GE(cost(b, ja), cost(a, ja) - 1e-5);
+    }
     const int v = int(rng() % M);
-    if (node_of[size_t(v)] < 0 && ja >= 0)  // v is free: a must not prefer it
+    if (node_of[size_t(v)] < 0 && ja >= 0) {  // v is free: a must not prefer it
       ASSERT_GE(cost(a, v), cost(a, ja) - 1e-5);
+    }
   }
 }
 
@@ -414,7 +424,7 @@ TEST(SrGeometry, LrGraphIsNearestAlongTetEdges) {
     }
     ASSERT_EQ(int(row.size()), k);
     for (int v = 0; v < g.num_lr; ++v)
-      if (v != i && !row.count(v)) ASSERT_GE(d[size_t(v)], last - 1e-12) << "node " << i << " missed " << v;
+      if (v != i && !row.count(v)) { ASSERT_GE(d[size_t(v)], last - 1e-12) << "node " << i << " missed " << v; }
     // On the lattice the nearest are edge neighbours, one cell or less away.
     const int first = g.lr_graph[size_t(i) * k];
     EXPECT_LE(dist3(g.lr_rest, i, g.lr_rest, first), r.lattice.cell * (1 + 1e-6));
@@ -438,12 +448,12 @@ TEST(SrGeometry, UpsamplingNeighboursAreNearestMappedAlongSurface) {
     for (int s = 0; s < k; ++s) {
       const size_t at = size_t(j) * k + size_t(s);
       row.insert(g.up_index[at]);
-      if (s > 0) ASSERT_GE(g.up_dist[at], g.up_dist[at - 1]);
+      if (s > 0) { ASSERT_GE(g.up_dist[at], g.up_dist[at - 1]); }
       if (g.up_is_euclid[at]) continue;
       const int mv = g.lr_to_hr[size_t(g.up_index[at])];
       ASSERT_GE(mv, 0);
       ASSERT_NEAR(g.up_dist[at], d[size_t(mv)], 1e-4);
-      if (comps == 1) ASSERT_NEAR(g.up_dist[at], mapped_d[size_t(s)], 1e-4) << "vertex " << j << " slot " << s;
+      if (comps == 1) { ASSERT_NEAR(g.up_dist[at], mapped_d[size_t(s)], 1e-4) << "vertex " << j << " slot " << s; }
     }
     ASSERT_EQ(int(row.size()), k) << "repeated neighbour at vertex " << j;
     // A mapped vertex is its own nearest, at distance 0.
@@ -453,7 +463,7 @@ TEST(SrGeometry, UpsamplingNeighboursAreNearestMappedAlongSurface) {
       EXPECT_EQ(g.up_dist[size_t(j) * k], 0.f);
     }
   }
-  if (comps == 1) EXPECT_EQ(std::count(g.up_is_euclid.begin(), g.up_is_euclid.end(), 1), 0);
+  if (comps == 1) { EXPECT_EQ(std::count(g.up_is_euclid.begin(), g.up_is_euclid.end(), 1), 0); }
 }
 
 TEST(SrGeometry, EuclideanNeighboursAreNearest) {
@@ -528,9 +538,10 @@ TEST(SrGeometry, SmallComponentsAreFilledWithEuclideanNodes) {
       const size_t at = size_t(j) * o.upsample_k + size_t(s);
       row.insert(g.up_index[at]);
       fills += g.up_is_euclid[at];
-      if (s > 0) ASSERT_GE(g.up_dist[at], g.up_dist[at - 1]);
-      if (g.up_is_euclid[at])
+      if (s > 0) { ASSERT_GE(g.up_dist[at], g.up_dist[at - 1]); }
+      if (g.up_is_euclid[at]) {
         ASSERT_NEAR(g.up_dist[at], dist3(g.lr_rest, g.up_index[at], g.hr_rest_lr_frame, j), 1e-5);
+      }
     }
     EXPECT_EQ(int(row.size()), o.upsample_k);
     EXPECT_EQ(fills, o.upsample_k - 9) << "vertex " << j;
@@ -540,4 +551,105 @@ TEST(SrGeometry, SmallComponentsAreFilledWithEuclideanNodes) {
   const SrGeometry h = build_sr_geometry(fine, o);
   EXPECT_EQ(std::count(h.lr_to_hr.begin(), h.lr_to_hr.end(), -1), 0);
   EXPECT_EQ(std::count(h.up_is_euclid.begin(), h.up_is_euclid.end(), 1), 0);
+}
+
+// ------------------------------------------------------- ICT measurements
+
+namespace {
+
+double peak_rss_mb() {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
+  return 0;
+}
+
+}  // namespace
+
+// Timings on a full-size rig (run by hand):
+//   facesr rig build --source ../shared/data/ict-facekit -o /tmp/ict.rig -q
+//   FACESR_SR_RIG=/tmp/ict.rig facesr_tests --gtest_also_run_disabled_tests
+//     --gtest_filter='SrGeometry.DISABLED_FullRigTimings'
+TEST(SrGeometry, DISABLED_FullRigTimings) {
+  const char* path = std::getenv("FACESR_SR_RIG");
+  if (!path) GTEST_SKIP() << "set FACESR_SR_RIG to a .rig file";
+  const Rig r = load_rig(path);
+  using clock = std::chrono::steady_clock;
+  const auto secs = [](clock::time_point t0) { return std::chrono::duration<double>(clock::now() - t0).count(); };
+  auto t0 = clock::now();
+  const SrGeometry g = build_sr_geometry(r);
+  std::cout << "[ timing ] build_sr_geometry N " << g.num_lr << " M " << g.num_hr << ": " << secs(t0)
+            << " s, peak RSS " << peak_rss_mb() << " MB\n";
+  EXPECT_NO_THROW(validate_sr_geometry(g));
+  {
+    const int N = g.num_lr, M = g.num_hr;
+    std::vector<double> C(size_t(N) * size_t(M));
+    for (int i = 0; i < N; ++i)
+      for (int j = 0; j < M; ++j) C[size_t(i) * M + size_t(j)] = dist3(g.lr_rest, i, g.hr_rest_lr_frame, j);
+    t0 = clock::now();
+    double total = 0;
+    linear_assignment_any(C.data(), N, M, &total);
+    std::cout << "[ timing ] of which linear assignment: " << secs(t0) << " s, mean distance "
+              << total / std::min(N, M) << " cm\n";
+  }
+  int comps = 0;
+  face_components(r.surface_tris, r.surface.rows(), comps);
+  std::cout << "[ info ] surface components " << comps << ", Euclidean fill-in slots "
+            << std::count(g.up_is_euclid.begin(), g.up_is_euclid.end(), 1) << " of " << g.up_is_euclid.size()
+            << ", lattice cell " << r.lattice.cell << " cm\n";
+  // A smooth field (0.3 cm, ~20 cm wavelength): the error against it at the
+  // HR vertices (LR frame) shows how well each baseline interpolates.
+  const auto field = [](const float* x, int c) { return 0.3 * std::sin(0.3 * x[(c + 1) % 3] + c); };
+  std::vector<float> lr(size_t(g.num_lr) * 3);
+  for (int i = 0; i < g.num_lr; ++i)
+    for (int c = 0; c < 3; ++c) lr[size_t(i) * 3 + size_t(c)] = float(field(&g.lr_rest[size_t(i) * 3], c));
+  const auto field_error = [&](const std::vector<float>& hr) {
+    double sum = 0;
+    for (int j = 0; j < g.num_hr; ++j) {
+      double e2 = 0;
+      for (int c = 0; c < 3; ++c) {
+        const double d = hr[size_t(j) * 3 + size_t(c)] - field(&g.hr_rest_lr_frame[size_t(j) * 3], c);
+        e2 += d * d;
+      }
+      sum += std::sqrt(e2);
+    }
+    return sum / g.num_hr;
+  };
+  for (const auto& [sigma, mu] : std::vector<std::pair<double, double>>{
+           {2.0, 0.0}, {1.0, 1e-1}, {2.0, 1e-2}, {2.0, 1e-1}, {4.0, 1e-1}}) {
+    t0 = clock::now();
+    const RbfBaseline rbf(g, sigma, mu);
+    const double build = secs(t0);
+    t0 = clock::now();
+    const std::vector<float> hr = rbf.apply(lr);
+    const double apply = secs(t0);
+    double worst = 0;
+    for (int i = 0; i < g.num_lr; ++i)
+      if (g.lr_to_hr[size_t(i)] >= 0)
+        for (int c = 0; c < 3; ++c)
+          worst = std::max(worst, double(std::abs(hr[size_t(g.lr_to_hr[size_t(i)]) * 3 + size_t(c)] -
+                                                  lr[size_t(i) * 3 + size_t(c)])));
+    std::cout << "[ timing ] RBF sigma " << sigma << " mu " << mu << ": build " << build << " s, apply "
+              << apply << " s, rcond " << rbf.rcond() << ", stored " << rbf.stored_fraction()
+              << ", worst node misfit " << worst << " cm, mean field error " << field_error(hr)
+              << " cm, peak RSS " << peak_rss_mb() << " MB\n";
+  }
+  t0 = clock::now();
+  const MlsBaseline mls(g, 2.0);
+  const double build = secs(t0);
+  t0 = clock::now();
+  const std::vector<float> hr = mls.apply(lr);
+  const double apply = secs(t0);
+  long count[3] = {0, 0, 0};
+  for (uint8_t d : mls.degree()) ++count[d];
+  double lebesgue = 0;  // largest Σ|a|: how much MLS can amplify noise
+  for (size_t r = 0; r < mls.weights().size() / size_t(g.upsample_k); ++r) {
+    double s = 0;
+    for (int k = 0; k < g.upsample_k; ++k) s += std::abs(mls.weights()[r * size_t(g.upsample_k) + size_t(k)]);
+    lebesgue = std::max(lebesgue, s);
+  }
+  std::cout << "[ timing ] MLS sigma 2: build " << build << " s, apply " << apply << " s, degrees 0/1/2 " << count[0]
+            << " / " << count[1] << " / " << count[2] << ", max sum|a| " << lebesgue << ", mean field error "
+            << field_error(hr) << " cm\n";
 }

@@ -64,6 +64,28 @@ double fit_rbf_sigma(const SrGeometry& g, const std::vector<const float*>& lr_fr
   return fit_sigma<RbfBaseline>("RBF", g, lr_frames, hr_frames, candidates_cm, errors);
 }
 
+RbfParams fit_rbf_params(const SrGeometry& g, const std::vector<const float*>& lr_frames,
+                         const std::vector<const float*>& hr_frames, const std::vector<double>& sigma_candidates_cm,
+                         const std::vector<double>& regularization_candidates, std::vector<double>* errors) {
+  require(!sigma_candidates_cm.empty() && !regularization_candidates.empty(), "RBF parameter fit: no candidates");
+  std::vector<double> err;
+  RbfParams best;
+  double best_err = 0;
+  for (double mu : regularization_candidates)
+    for (double sigma : sigma_candidates_cm) {
+      const RbfBaseline b(g, sigma, mu);
+      const double e = mean_vertex_error(g.num_hr, lr_frames, hr_frames,
+                                         [&](const float* lr, float* hr) { b.apply(lr, hr); });
+      if (err.empty() || e < best_err) {
+        best = {sigma, mu};
+        best_err = e;
+      }
+      err.push_back(e);
+    }
+  if (errors) *errors = std::move(err);
+  return best;
+}
+
 double fit_mls_sigma(const SrGeometry& g, const std::vector<const float*>& lr_frames,
                      const std::vector<const float*>& hr_frames, const std::vector<double>& candidates_cm,
                      std::vector<double>* errors) {

@@ -74,7 +74,10 @@ MlsBaseline::MlsBaseline(const SrGeometry& g, double sigma_cm) : impl_(std::make
     for (int j = 0; j < M; ++j) {
       const size_t row = size_t(j) * size_t(k);
       double dmin2 = 1e300;
-      for (int s = 0; s < k; ++s) dmin2 = std::min(dmin2, double(g.up_dist[row + size_t(s)]) * g.up_dist[row + size_t(s)]);
+      for (int s = 0; s < k; ++s) {
+        const double d = g.up_dist[row + size_t(s)];
+        dmin2 = std::min(dmin2, d * d);
+      }
       for (int s = 0; s < k; ++s) {
         const double d = g.up_dist[row + size_t(s)];
         w[size_t(s)] = std::exp(-(d * d - dmin2) * inv_s2);
