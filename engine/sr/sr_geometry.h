@@ -4,6 +4,7 @@
 // only on the rig, so they are computed once and stored in the model file;
 // training, evaluation and the runtime all read the same arrays.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "rig/rig.h"
@@ -41,10 +42,31 @@ struct SrGeometry {
   // its upsample_k Euclidean-nearest LR nodes (rest poses), nearest first.
   std::vector<int32_t> euclid_index;  // M × upsample_k
   std::vector<float> euclid_dist;     // M × upsample_k, cm
+
+  // Optional extras (empty when a stored model leaves them out):
+  // The rig surface in the LR rest frame (rig.predeform.surface_predeformed,
+  // or hr_rest when the rig has none). LR nodes and HR vertices are only
+  // comparable within one frame, so the assignment, the Euclidean neighbours,
+  // the Euclidean fill-ins and the MLS basis use these positions, while
+  // geodesic distances are measured over hr_rest.
+  std::vector<float> hr_rest_lr_frame;  // M × 3, cm
+  std::vector<int32_t> hr_tris;         // T × 3, the rig's surface triangles (RBF geodesics)
+  std::vector<uint8_t> up_is_euclid;    // M × upsample_k: 1 where a slot is a Euclidean fill-in
 };
+
+// Fill-ins: the HR surface may have several connected components. Where a
+// vertex's component holds fewer than upsample_k mapped vertices, the
+// remaining slots take the Euclidean-nearest LR nodes not yet chosen, with
+// their Euclidean distance, and the row is then sorted by distance. The LR
+// graph is completed the same way for a node whose tet-mesh component has
+// fewer than graph_k + 1 nodes.
 
 // Throws Error when the rig has no LR nodes or surface, or k is out of range
 // (graph_k in [1, N - 1], upsample_k in [1, min(N, 64)]).
 SrGeometry build_sr_geometry(const Rig& rig, const SrGeometryOptions& opt = {});
+
+// Checks sizes and index ranges of every array (of a loaded model, say);
+// throws Error naming the first inconsistent field. `what` prefixes messages.
+void validate_sr_geometry(const SrGeometry& g, const std::string& what = "sr geometry");
 
 }  // namespace facesr
