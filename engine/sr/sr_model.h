@@ -13,13 +13,16 @@
 //                   "units": "cm", "rig_name", "rig_checksum", "num_lr" (N),
 //                   "num_hr" (M), "architecture": {...}, "training": {...}}
 //                 geometry (SrGeometry, k values from the architecture):
-//                   vector<f32> lr_rest (N×3), hr_rest (M×3)
+//                   vector<f32> lr_rest (N×3), hr_rest (M×3),
+//                               hr_rest_lr_frame (M×3)
+//                   vector<i32> hr_tris (T×3)
 //                   vector<i32> lr_graph (N×graph_k), lr_to_hr (N),
 //                               up_index (M×upsample_k)
 //                   vector<f32> up_dist (M×upsample_k)
 //                   vector<i32> euclid_index (M×upsample_k)
 //                   vector<f32> euclid_dist (M×upsample_k)
-//                   (for kind "vae" the six neighbourhood vectors are empty)
+//                   vector<u8>  up_is_euclid (M×upsample_k)
+//                   (for kind "vae" the neighbourhood vectors are empty)
 //                 u64 tensor count T, then T tensors, each:
 //                   string name, vector<i64> shape, vector<f32> values
 //                   (in parameter_shapes() order, values row-major)

@@ -62,6 +62,12 @@ void validate_sr_model(const SrModel& m, const std::string& ctx) {
   check_size(g.hr_rest, 3 * M, ctx, "geometry.hr_rest");
   check_finite(g.lr_rest, ctx, "geometry.lr_rest");
   check_finite(g.hr_rest, ctx, "geometry.hr_rest");
+  if (!g.hr_rest_lr_frame.empty()) {
+    check_size(g.hr_rest_lr_frame, 3 * M, ctx, "geometry.hr_rest_lr_frame");
+    check_finite(g.hr_rest_lr_frame, ctx, "geometry.hr_rest_lr_frame");
+  }
+  require(g.hr_tris.size() % 3 == 0, ctx + ": geometry.hr_tris is not a list of triangles");
+  check_indices(g.hr_tris, 0, int(M), ctx, "geometry.hr_tris");
   if (m.arch.kind == "sr") {
     require(g.graph_k == m.arch.graph_k && g.upsample_k == m.arch.upsample_k,
             ctx + ": the geometry's k (graph " + std::to_string(g.graph_k) + ", upsampling " +
@@ -80,6 +86,7 @@ void validate_sr_model(const SrModel& m, const std::string& ctx) {
     check_indices(g.euclid_index, 0, int(N), ctx, "geometry.euclid_index");
     check_finite(g.up_dist, ctx, "geometry.up_dist");
     check_finite(g.euclid_dist, ctx, "geometry.euclid_dist");
+    if (!g.up_is_euclid.empty()) check_size(g.up_is_euclid, M * K, ctx, "geometry.up_is_euclid");
   }
   const auto expected = parameter_shapes(m.arch, m.num_lr, m.num_hr);
   require(m.tensors.size() == expected.size(), ctx + ": " + std::to_string(m.tensors.size()) +
@@ -106,12 +113,15 @@ void save_sr_model(const std::string& path, const SrModel& m) {
   const SrGeometry& g = m.geometry;
   w.put_vector(g.lr_rest);
   w.put_vector(g.hr_rest);
+  w.put_vector(g.hr_rest_lr_frame);
+  w.put_vector(g.hr_tris);
   w.put_vector(g.lr_graph);
   w.put_vector(g.lr_to_hr);
   w.put_vector(g.up_index);
   w.put_vector(g.up_dist);
   w.put_vector(g.euclid_index);
   w.put_vector(g.euclid_dist);
+  w.put_vector(g.up_is_euclid);
   w.put<uint64_t>(m.tensors.size());
   for (const SrTensor& t : m.tensors) {
     w.put_string(t.name);
@@ -164,12 +174,15 @@ SrModel load_sr_model(const std::string& path) {
   g.upsample_k = m.arch.upsample_k;
   g.lr_rest = r.get_vector<float>("geometry.lr_rest");
   g.hr_rest = r.get_vector<float>("geometry.hr_rest");
+  g.hr_rest_lr_frame = r.get_vector<float>("geometry.hr_rest_lr_frame");
+  g.hr_tris = r.get_vector<int32_t>("geometry.hr_tris");
   g.lr_graph = r.get_vector<int32_t>("geometry.lr_graph");
   g.lr_to_hr = r.get_vector<int32_t>("geometry.lr_to_hr");
   g.up_index = r.get_vector<int32_t>("geometry.up_index");
   g.up_dist = r.get_vector<float>("geometry.up_dist");
   g.euclid_index = r.get_vector<int32_t>("geometry.euclid_index");
   g.euclid_dist = r.get_vector<float>("geometry.euclid_dist");
+  g.up_is_euclid = r.get_vector<uint8_t>("geometry.up_is_euclid");
   const auto count = r.get<uint64_t>("tensor count");
   require(count <= 4096, at + "implausible tensor count " + std::to_string(count));
   for (uint64_t i = 0; i < count; ++i) {

@@ -62,6 +62,9 @@ SrNetworkImpl::SrNetworkImpl(const SrArchitecture& arch, const SrGeometry& g)
   if (arch.coordinate_upsampling) {
     up_index_ = long_tensor(g.up_index, {M_, K_});
     // u_ij = [x^H_j, x^L_i, ‖x^L_i − x^H_j‖] (eq. 2) in the normalised frame.
+    // x^H is taken in the LR rest frame (the lip-separating predeformation),
+    // where the neighbourhoods were found, so that x^H and x^L are comparable.
+    const std::vector<float>& xh_rest = g.hr_rest_lr_frame.empty() ? g.hr_rest : g.hr_rest_lr_frame;
     std::vector<float> u(size_t(M_ * K_ * 7));
     const double s = arch.coord_scale;
     for (int64_t j = 0; j < M_; ++j)
@@ -70,7 +73,7 @@ SrNetworkImpl::SrNetworkImpl(const SrArchitecture& arch, const SrGeometry& g)
         float* row = &u[size_t((j * K_ + q) * 7)];
         double d2 = 0;
         for (int c = 0; c < 3; ++c) {
-          const double xh = g.hr_rest[size_t(3 * j + c)], xl = g.lr_rest[size_t(3 * i + c)];
+          const double xh = xh_rest[size_t(3 * j + c)], xl = g.lr_rest[size_t(3 * i + c)];
           row[c] = float((xh - arch.coord_center[c]) / s);
           row[3 + c] = float((xl - arch.coord_center[c]) / s);
           d2 += (xl - xh) * (xl - xh);
