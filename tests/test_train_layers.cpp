@@ -114,6 +114,11 @@ TEST(TrainLayers, EdgeConvMatchesTheDirectFormulaAndItsGradient) {
         direct[bi][i] = torch::maximum(direct[bi][i], y);
       }
   EXPECT_LT((block->edge(h, nbr) - direct).abs().max().item<double>(), 1e-12);
+  // The block's shared FC on [y, global max, global average, input], as written.
+  const auto gmax = direct.amax(1, true).expand({B, N, Dout}), gavg = direct.mean(1, true).expand({B, N, Dout});
+  const auto full = torch::leaky_relu(
+      torch::linear(torch::cat({direct, gmax, gavg, h}, 2), *params.find("fc.weight"), *params.find("fc.bias")), 0.2);
+  EXPECT_LT((block->forward(h, nbr) - full).abs().max().item<double>(), 1e-12);
 
   const auto proj = torch::randn({B, N, Dout}, torch::kFloat64);
   auto loss = [&] { return (block->forward(h, nbr) * proj).sum(); };

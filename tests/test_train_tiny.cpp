@@ -11,6 +11,7 @@
 #include "rig/rig_io.h"
 #include "sr/sr_model.h"
 #include "test_support.h"
+#include "train/model_evaluation.h"
 #include "train/torch_predictor.h"
 #include "train/trainer.h"
 #include "train/training_data.h"
@@ -185,6 +186,45 @@ TEST_F(TrainTiny, CliTrainsAndRejectsBadInput) {
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("--recon-hidden"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(path("x.fsm")));
+}
+
+TEST_F(TrainTiny, EvalComparesEveryMethodAndWritesItsOutputs) {
+  train_model(fixtures::procedural_rig(), arch(), options("ev.fsm", 2));
+  SrArchitecture v;
+  v.kind = "vae";
+  v.vae_encoder = {32};
+  v.vae_latent = 4;
+  v.vae_decoder = {32};
+  train_model(fixtures::procedural_rig(), v, options("ev_vae.fsm", 2));
+  auto r = run("eval --rig " + q("p.rig") + " --dataset " + q("data") + " --model " + q("ev.fsm") + " --vae " +
+               q("ev_vae.fsm") + " -o " + q("eval") + " --pictures 2 --fit-frames 4 --json -q");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["test_frames"], 12);
+  for (const char* m : {"ours", "embedded", "rbf", "mls", "vae"}) {
+    ASSERT_TRUE(j.contains(m)) << m;
+    for (const char* k : {"mean_cm", "median_cm", "std_cm", "max_cm", "min_cm", "dame", "normal_deg"})
+      EXPECT_TRUE(j[m].contains(k)) << m << "." << k;
+    EXPECT_GE(j[m]["max_cm"].get<double>(), j[m]["mean_cm"].get<double>()) << m;
+  }
+  EXPECT_GE(j["frames_ours_beats_embedded"].get<int>(), 0);
+  EXPECT_LE(j["frames_ours_beats_embedded"].get<int>(), 12);
+  EXPECT_GT(j["baselines"]["rbf"]["sigma_cm"].get<double>(), 0);
+  for (const char* f : {"eval/frame_errors.csv", "eval/frame_errors.svg", "eval/report.json"})
+    EXPECT_TRUE(fs::exists(path(f))) << f;
+  int pngs = 0;
+  for (const auto& e : fs::directory_iterator(path("eval/pictures"))) pngs += e.path().extension() == ".png";
+  EXPECT_EQ(pngs, 2);
+
+  // The VAE file where the network belongs, and an unknown method.
+  r = run("eval --rig " + q("p.rig") + " --dataset " + q("data") + " --model " + q("ev_vae.fsm") + " -o " +
+          q("eval2") + " -q");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("not the network"), std::string::npos) << r.err;
+  r = run("eval --rig " + q("p.rig") + " --dataset " + q("data") + " --methods embedded,magic -o " + q("eval3") + " -q");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("magic"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("eval3/report.json")));
 }
 
 }  // namespace

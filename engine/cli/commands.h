@@ -15,6 +15,7 @@ void register_simulate(CLI::App& app);
 void register_bench(CLI::App& app);
 void register_dataset(CLI::App& app);
 void register_train(CLI::App& app);
+void register_eval(CLI::App& app);
 void add_action(CLI::App* sub, std::function<void()> action);
 void run_selected(CLI::App& app);
 

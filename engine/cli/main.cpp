@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   facesr::cli::register_bench(app);
   facesr::cli::register_dataset(app);
   facesr::cli::register_train(app);
+  facesr::cli::register_eval(app);
   facesr::cli::register_devices(app);
   try {
     app.parse(argc, argv);

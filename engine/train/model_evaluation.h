@@ -1,0 +1,37 @@
+#pragma once
+// `facesr eval`: the trained network ("ours") against the paper's baselines
+// (embedded, RBF, MLS, β-VAE) on a dataset's test split, through
+// engine/eval's metrics. Lives beside the trainer because "ours" and "vae"
+// run in LibTorch here.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rig/rig.h"
+
+namespace facesr {
+
+struct ModelEvaluationOptions {
+  std::string dataset_dir;
+  std::string model_path;  // "ours" (optional if not among the methods)
+  std::string vae_path;    // "vae" (optional)
+  std::vector<std::string> methods{"ours", "embedded", "rbf", "mls", "vae"};  // those available are run
+  std::string out_dir;     // CSV, SVG, pictures, report.json
+  int pictures = 4;        // test frames pictured (evenly spaced)
+  int spectral_k = 100;
+  // σ (cm) and μ for the baselines; <= 0: fitted on up to fit_frames training
+  // frames over a grid scaled by the LR cell size.
+  double rbf_sigma_cm = 0, rbf_regularization = -1, mls_sigma_cm = 0;
+  int fit_frames = 24;
+  bool progress = true;
+};
+
+// Returns the evaluation report's JSON (engine/eval) plus "baselines" (the σ
+// and μ used and how they were chosen) and "timing" (ms per frame of each
+// method). Throws Error (before writing) on a model for another rig, a
+// method that cannot run (e.g. "vae" without a file when asked for
+// explicitly), or a bad dataset.
+nlohmann::json evaluate_models(const Rig& rig, const ModelEvaluationOptions& opt, std::string* markdown = nullptr);
+
+}  // namespace facesr
