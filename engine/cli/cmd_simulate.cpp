@@ -46,10 +46,7 @@ struct SolverArgs {
   SolverOptions options() const {
     SolverOptions o;
     if (preset == "realtime") {
-      o.newton_tol = 1e-2;
-      o.newton_max = 3;
-      o.cg_tol = 0.05;
-      o.cg_max = 60;
+      o = realtime_solver();
     } else {
       require(preset == "accurate", "unknown --solver '" + preset + "' (expected accurate or realtime)");
     }

@@ -32,6 +32,17 @@ struct SolverOptions {
   double penetration_tol_cm = 0.03;
 };
 
+// The game preset: at most 3 Newton steps of at most 60 CG iterations per
+// frame, looser tolerances (`--solver realtime`, the runtime's default).
+inline SolverOptions realtime_solver() {
+  SolverOptions o;
+  o.newton_tol = 1e-2;
+  o.newton_max = 3;
+  o.cg_tol = 0.05;
+  o.cg_max = 60;
+  return o;
+}
+
 struct StepStats {
   int newton_iters = 0;
   int cg_iters = 0;           // summed over Newton iterations

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "sr/positional_encoding.h"
+#include "sr/upsample_inputs.h"
 #include "train/interpolate.h"
 
 namespace facesr {
@@ -61,25 +62,7 @@ SrNetworkImpl::SrNetworkImpl(const SrArchitecture& arch, const SrGeometry& g)
 
   if (arch.coordinate_upsampling) {
     up_index_ = long_tensor(g.up_index, {M_, K_});
-    // u_ij = [x^H_j, x^L_i, ‖x^L_i − x^H_j‖] (eq. 2) in the normalised frame.
-    // x^H is taken in the LR rest frame (the lip-separating predeformation),
-    // where the neighbourhoods were found, so that x^H and x^L are comparable.
-    const std::vector<float>& xh_rest = g.hr_rest_lr_frame.empty() ? g.hr_rest : g.hr_rest_lr_frame;
-    std::vector<float> u(size_t(M_ * K_ * 7));
-    const double s = arch.coord_scale;
-    for (int64_t j = 0; j < M_; ++j)
-      for (int64_t q = 0; q < K_; ++q) {
-        const int64_t i = g.up_index[size_t(j * K_ + q)];
-        float* row = &u[size_t((j * K_ + q) * 7)];
-        double d2 = 0;
-        for (int c = 0; c < 3; ++c) {
-          const double xh = xh_rest[size_t(3 * j + c)], xl = g.lr_rest[size_t(3 * i + c)];
-          row[c] = float((xh - arch.coord_center[c]) / s);
-          row[3 + c] = float((xl - arch.coord_center[c]) / s);
-          d2 += (xl - xh) * (xl - xh);
-        }
-        row[6] = float(std::sqrt(d2) / s);
-      }
+    const std::vector<float> u = upsample_inputs(arch, g);
     up_input_ = register_buffer("up_input", float_tensor(u, {M_, K_, 7}));
     weight_net_ = register_module("weight_net", Siren(7, arch.weight_hidden, 1, arch.omega0));
   } else {

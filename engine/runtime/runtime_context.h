@@ -1,0 +1,83 @@
+#pragma once
+// The runtime a game drives (capi/facesr.h is a thin C layer over this): one
+// face's LR simulation (OpenCL) plus super-resolution inference, with
+// controls, external springs and spheres, synchronous stepping, and a
+// two-stage pipeline (frame t+1 simulates while frame t super-resolves).
+// The rig and the model are immutable and shared; a RuntimeContext is used
+// by one thread at a time.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "compute/cl_device.h"
+#include "rig/rig.h"
+#include "sim/controls.h"
+#include "sim/simulator.h"
+#include "sr/sr_model.h"
+
+namespace facesr {
+
+struct RuntimeOptions {
+  compute::DeviceSelector device;         // for the LR simulation and the inference
+  SolverOptions solver = realtime_solver();
+  bool cpu_inference = false;             // the C++ reference inference instead of OpenCL
+};
+
+struct FrameResult {
+  int64_t frame = -1;
+  std::vector<float> positions;  // M × 3, cm, super-resolved surface (rest frame)
+  std::vector<float> normals;    // M × 3, unit area-weighted vertex normals
+  std::vector<float> embedded;   // M × 3, cm, the LR-embedded surface (rig rest + embedded displacement)
+  double simulation_ms = 0, inference_ms = 0, total_ms = 0;
+  int newton_iterations = 0, cg_iterations = 0;
+  double relative_residual = 0;
+};
+
+class RuntimeContext {
+ public:
+  // Throws Error when the model was trained on another rig, is not a network
+  // ("sr"), or the device cannot be opened.
+  RuntimeContext(std::shared_ptr<const Rig> rig, std::shared_ptr<const SrModel> model, const RuntimeOptions& opt = {});
+  ~RuntimeContext();  // waits for pending frames
+  RuntimeContext(const RuntimeContext&) = delete;
+  RuntimeContext& operator=(const RuntimeContext&) = delete;
+
+  const Rig& rig() const;
+  int num_weights() const;
+  int num_vertices() const;
+
+  // Controls for the next step; each setter validates (Error naming the
+  // control) and changes nothing on failure.
+  void set_weight(int index, float value);
+  void set_weight(const std::string& name, float value);
+  void set_weights(const std::vector<float>& w);
+  void set_jaw(const Mat3& R, const Vec3& t);  // R must be a rotation
+  void clear_jaw();
+  int add_spring(int vertex, const Vec3& target, double stiffness);  // returns an id > 0
+  void move_spring(int id, const Vec3& target);
+  void remove_spring(int id);
+  int add_sphere(const Vec3& centre, double radius, double stiffness);
+  void move_sphere(int id, const Vec3& centre);
+  void remove_sphere(int id);
+  void reset();  // rest pose, no controls, nothing pending
+
+  // Simulate and super-resolve one frame now (Error if frames are pending).
+  void step();
+  // Queue a frame (controls copied); at most 2 pending (Error beyond).
+  void step_async();
+  // Wait for the oldest pending frame, make it the current result, return its
+  // frame number; Error if nothing is pending or that frame failed.
+  int64_t wait();
+  int pending() const;
+
+  // The current (latest waited-for or stepped) frame; frame -1 is the rest pose.
+  const FrameResult& result() const;
+  std::string device() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace facesr

@@ -1,0 +1,47 @@
+#pragma once
+// Super-resolution inference at run time, without LibTorch: LR node
+// displacements in, HR surface displacements out, for one frame, with a
+// model file's network (kind "sr"). Two implementations of the same
+// arithmetic: OpenCL kernels (cl/sr_infer.cl, the runtime's) and a plain C++
+// reference (for parity checks and as a fallback).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "compute/cl_device.h"
+#include "sr/sr_model.h"
+
+namespace facesr {
+
+// Load-time constants of a model shared by both implementations: the exact
+// algebraic shortcuts of the network. The upsampling weights depend only on
+// rest-pose coordinates, so they are computed once (a fixed M × K sparse
+// matrix).
+struct SrInferencePlan {
+  int N = 0, M = 0, K = 0;
+  std::vector<float> up_weight;  // M × K softmax weights w_jq
+  std::vector<int32_t> up_index; // M × K LR node per weight
+  std::vector<float> pe;         // N × pe_dim positional encoding
+};
+SrInferencePlan make_inference_plan(const SrModel& model);
+
+class SrInference {
+ public:
+  virtual ~SrInference() = default;
+  // lr_disp: N × 3 (cm), hr_disp: M × 3 (cm).
+  virtual void infer(const float* lr_disp, float* hr_disp) = 0;
+  virtual std::string device() const = 0;
+  // Per-stage milliseconds of the last infer() when profiling is on (empty otherwise).
+  virtual std::vector<std::pair<std::string, double>> last_profile() const { return {}; }
+};
+
+// Throws Error for a model of kind other than "sr".
+std::unique_ptr<SrInference> make_cpu_inference(std::shared_ptr<const SrModel> model);
+struct ClInferenceOptions {
+  compute::DeviceSelector device;
+  bool profile = false;  // wait after each stage and time it (slower)
+};
+std::unique_ptr<SrInference> make_cl_inference(std::shared_ptr<const SrModel> model,
+                                               const ClInferenceOptions& opt = {});
+
+}  // namespace facesr
