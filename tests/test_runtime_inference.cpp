@@ -71,5 +71,40 @@ TEST(RuntimeInference, CpuReferenceMatchesLibTorch) {
   }
 }
 
+// Max per-vertex distance (cm) between an inference's output and LibTorch's.
+double worst_difference(SrInference& inf, const torch::Tensor& lr, const torch::Tensor& ref, int M) {
+  double worst = 0;
+  for (int64_t f = 0; f < lr.size(0); ++f) {
+    std::vector<float> out(size_t(3 * M));
+    const auto in = lr[f].contiguous();
+    inf.infer(in.data_ptr<float>(), out.data());
+    worst = std::max(worst, (torch::from_blob(out.data(), {M, 3}) - ref[f]).norm(2, 1).max().item<double>());
+  }
+  return worst;
+}
+
+TEST(RuntimeInference, OpenClMatchesLibTorch) {
+  for (int variant = 0; variant < 3; ++variant) {
+    const bool fe = variant != 1, cu = variant != 2;
+    const auto m = random_model(fe, cu, 11 + variant);
+    const auto lr = lr_frames(*m, 3);
+    const auto ref = TorchPredictor(*m).predict(lr);
+    auto cl = make_cl_inference(m);
+    EXPECT_LT(worst_difference(*cl, lr, ref, m->num_hr), 1e-4) << "variant " << variant;
+  }
+}
+
+TEST(RuntimeInference, OpenClProfileNamesEveryStage) {
+  const auto m = random_model(true, true, 2);
+  ClInferenceOptions o;
+  o.profile = true;
+  auto cl = make_cl_inference(m, o);
+  std::vector<float> in(size_t(3 * m->num_lr), 0.01f), out(size_t(3 * m->num_hr));
+  cl->infer(in.data(), out.data());
+  const auto p = cl->last_profile();
+  ASSERT_GE(p.size(), 6u);
+  for (const auto& [name, ms] : p) EXPECT_GE(ms, 0) << name;
+}
+
 }  // namespace
 }  // namespace facesr

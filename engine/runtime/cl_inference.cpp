@@ -1,11 +1,231 @@
-// Placeholder while the OpenCL inference kernels are written (issue 6).
+// The network's forward pass in OpenCL (cl/sr_infer.cl). Everything that
+// depends only on the model is prepared once here: the upsampling weights
+// (a fixed sparse matrix), the EdgeConv weight split Θ1 − Θ2 / Θ2, the
+// shared FC's per-node columns, and the output scale folded into the last
+// layer. A frame uploads N × 3 floats and downloads M × 3.
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "compute/cl_buffer.h"
+#include "compute/cl_context.h"
+#include "compute/cl_program.h"
 #include "core/error.h"
+#include "core/progress.h"
 #include "runtime/sr_inference.h"
 
 namespace facesr {
 
-std::unique_ptr<SrInference> make_cl_inference(std::shared_ptr<const SrModel>, const ClInferenceOptions&) {
-  throw Error("OpenCL inference is not implemented yet; use the CPU inference");
+namespace {
+
+using compute::Buffer;
+using compute::LocalMemory;
+constexpr size_t kTile = 16;
+
+// Columns [c0, c0 + n) of a row-major rows × cols matrix.
+std::vector<float> columns(const SrTensor& t, int64_t c0, int64_t n) {
+  const int64_t rows = t.shape[0], cols = t.shape[1];
+  std::vector<float> out(size_t(rows * n));
+  for (int64_t r = 0; r < rows; ++r)
+    for (int64_t c = 0; c < n; ++c) out[size_t(r * n + c)] = t.values[size_t(r * cols + c0 + c)];
+  return out;
+}
+
+struct Block {  // one EdgeConv submodule
+  uint32_t in = 0, D = 0, in_off = 0, out_off = 0;
+  Buffer<float> W_self, b_self, W_other, W_fc, b_fc, W_node;
+};
+
+struct Layer {  // one reconstruction layer
+  uint32_t in = 0, out = 0;
+  Buffer<float> W, b;
+};
+
+class ClInference final : public SrInference {
+ public:
+  ClInference(std::shared_ptr<const SrModel> m, const ClInferenceOptions& opt)
+      : m_(std::move(m)), opt_(opt), ctx_(opt.device) {
+    const SrArchitecture& a = m_->arch;
+    const SrInferencePlan plan = make_inference_plan(*m_);
+    N_ = uint32_t(plan.N);
+    M_ = uint32_t(plan.M);
+    K_ = uint32_t(plan.K);
+    require(a.graph_k <= 16, "OpenCL inference: graph_k " + std::to_string(a.graph_k) + " is above the kernels' 16");
+    prog_ = ctx_.build_program({"sr_infer.cl"}, "-cl-std=CL1.2");
+    for (const char* k : {"sr_input", "dense", "edge_max", "pool_columns", "pooled_bias", "row_sqnorm", "feature_knn",
+                          "upsample_features"})
+      kernels_.emplace(k, prog_.kernel(k));
+    const cl_mem_flags ro = CL_MEM_READ_ONLY;
+    pe_ = Buffer<float>(ctx_, plan.pe.empty() ? std::vector<float>{0} : plan.pe, ro);
+    up_w_ = Buffer<float>(ctx_, plan.up_weight, ro);
+    up_idx_ = Buffer<cl_int>(ctx_, plan.up_index, ro);
+    graph_ = Buffer<cl_int>(ctx_, m_->geometry.lr_graph, ro);
+
+    C_ = uint32_t(a.encoded_dim());
+    uint32_t in = uint32_t(a.input_dim()), off = 0, Dmax = 1;
+    if (a.feature_encoding)
+      for (size_t s = 0; s < a.encoder_dims.size(); ++s) {
+        const std::string p = "encoder." + std::to_string(s);
+        require(in <= 256, "OpenCL inference: feature width " + std::to_string(in) + " is above the kernels' 256");
+        Block b;
+        b.in = in;
+        b.D = uint32_t(a.encoder_dims[s]);
+        b.in_off = off;
+        b.out_off = off + in;
+        const SrTensor& We = m_->tensor(p + ".edge.weight");
+        std::vector<float> W1 = columns(We, 0, in), W2 = columns(We, in, in);
+        for (size_t i = 0; i < W1.size(); ++i) W1[i] -= W2[i];
+        b.W_self = Buffer<float>(ctx_, W1, ro);
+        b.b_self = Buffer<float>(ctx_, m_->tensor(p + ".edge.bias").values, ro);
+        b.W_other = Buffer<float>(ctx_, W2, ro);
+        const SrTensor& Wf = m_->tensor(p + ".fc.weight");
+        b.W_fc = Buffer<float>(ctx_, Wf.values, ro);
+        b.b_fc = Buffer<float>(ctx_, m_->tensor(p + ".fc.bias").values, ro);
+        // Per-node columns [y | h] of the shared FC; the pooled ones go into a per-frame bias.
+        std::vector<float> Wy = columns(Wf, 0, b.D), Wh = columns(Wf, 3 * b.D, in), node;
+        for (uint32_t r = 0; r < b.D; ++r) {
+          node.insert(node.end(), Wy.begin() + r * b.D, Wy.begin() + (r + 1) * b.D);
+          node.insert(node.end(), Wh.begin() + r * in, Wh.begin() + (r + 1) * in);
+        }
+        b.W_node = Buffer<float>(ctx_, node, ro);
+        Dmax = std::max(Dmax, b.D);
+        off += in;
+        in = b.D;
+        blocks_.push_back(std::move(b));
+      }
+    uint32_t width = C_, Hmax = 3;
+    const int layers = int(a.recon_hidden.size()) + 1;
+    for (int l = 0; l < layers; ++l) {
+      const std::string p = "recon." + std::to_string(l);
+      Layer L;
+      const SrTensor& W = m_->tensor(p + ".weight");
+      L.in = uint32_t(W.shape[1]);
+      L.out = uint32_t(W.shape[0]);
+      require(L.in == width, "OpenCL inference: " + p + " does not fit the previous layer");
+      std::vector<float> w = W.values, b = m_->tensor(p + ".bias").values;
+      if (l + 1 == layers) {
+        // The output scale folded into the last affine map.
+        for (float& v : w) v = float(v * a.output_scale);
+        for (float& v : b) v = float(v * a.output_scale);
+      }
+      L.W = Buffer<float>(ctx_, w, ro);
+      L.b = Buffer<float>(ctx_, b, ro);
+      Hmax = std::max(Hmax, L.out);
+      width = L.out;
+      recon_.push_back(std::move(L));
+    }
+    H0_ = recon_[0].out;
+    disp_ = Buffer<float>(ctx_, 3 * N_);
+    enc_ = Buffer<float>(ctx_, size_t(N_) * C_);
+    self_ = Buffer<float>(ctx_, size_t(N_) * Dmax);
+    other_ = Buffer<float>(ctx_, size_t(N_) * Dmax);
+    y_ = Buffer<float>(ctx_, size_t(N_) * Dmax);
+    pooled_ = Buffer<float>(ctx_, 2 * size_t(Dmax));
+    pbias_ = Buffer<float>(ctx_, Dmax);
+    sq_ = Buffer<float>(ctx_, N_);
+    nbr_ = Buffer<cl_int>(ctx_, size_t(N_) * size_t(a.graph_k));
+    zero_ = Buffer<float>(ctx_, std::vector<float>(std::max(Dmax, Hmax), 0.0f), ro);
+    r0_ = Buffer<float>(ctx_, size_t(N_) * H0_);
+    ha_ = Buffer<float>(ctx_, size_t(M_) * Hmax);
+    hb_ = Buffer<float>(ctx_, size_t(M_) * Hmax);
+    // The column reduction halves its work-group: a power of two.
+    pool_local_ = 1;
+    while (pool_local_ * 2 <= std::min<size_t>(256, kernels_.at("pool_columns").max_work_group_size())) pool_local_ *= 2;
+    knn_local_ = std::min<size_t>(64, kernels_.at("feature_knn").max_work_group_size());
+  }
+
+  std::string device() const override { return ctx_.device().device_name + " (OpenCL, float)"; }
+
+  std::vector<std::pair<std::string, double>> last_profile() const override { return profile_; }
+
+  void infer(const float* lr_disp, float* hr_disp) override {
+    const SrArchitecture& a = m_->arch;
+    profile_.clear();
+    auto t0 = std::chrono::steady_clock::now();
+    auto stage = [&](const char* name) {
+      if (!opt_.profile) return;
+      ctx_.finish();
+      profile_.push_back({name, 1e3 * seconds_since(t0)});
+      t0 = std::chrono::steady_clock::now();
+    };
+    disp_.upload(lr_disp, 3 * N_);
+    k("sr_input").args(N_, uint32_t(a.pe_dim), float(1.0 / a.input_scale), disp_, pe_, enc_, C_).run_1d(N_, 64);
+    stage("input");
+    const float slope = float(a.leaky_slope);
+    for (size_t s = 0; s < blocks_.size(); ++s) {
+      const Block& b = blocks_[s];
+      const uint32_t k_nn = uint32_t(a.graph_k);
+      const Buffer<cl_int>* nbr = &graph_;
+      if (s > 0) {
+        // The graph of this submodule in its input's feature space.
+        k("row_sqnorm").args(N_, b.in, enc_, C_, b.in_off, sq_).run_1d(N_, 64);
+        k("feature_knn")
+            .args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, nbr_, LocalMemory{32 * b.in * sizeof(float)})
+            .run_1d(N_, knn_local_);
+        nbr = &nbr_;
+        stage("feature knn");
+      }
+      dense(N_, b.D, b.in, 0, enc_, C_, b.in_off, enc_, C_, 0, b.W_self, b.b_self, self_, b.D, 0, false, false);
+      dense(N_, b.D, b.in, 0, enc_, C_, b.in_off, enc_, C_, 0, b.W_other, zero_, other_, b.D, 0, false, false);
+      k("edge_max").args(N_, b.D, k_nn, self_, other_, *nbr, slope, y_).run_1d(size_t(N_) * b.D, 64);
+      stage("edgeconv");
+      k("pool_columns")
+          .args(N_, b.D, y_, pooled_, LocalMemory{pool_local_ * sizeof(float)}, LocalMemory{pool_local_ * sizeof(float)})
+          .run_1d(size_t(b.D) * pool_local_, pool_local_);
+      k("pooled_bias").args(b.D, b.in, b.W_fc, b.b_fc, pooled_, pbias_).run_1d(b.D, 64);
+      dense(N_, b.D, b.D, b.in, y_, b.D, 0, enc_, C_, b.in_off, b.W_node, pbias_, enc_, C_, b.out_off, false, true);
+      stage("pool + shared fc");
+    }
+    // Reconstruction: the first affine map on the N LR nodes, then the fixed
+    // upsampling, then the remaining SIREN layers on the M HR vertices.
+    const float w0 = float(a.omega0);
+    dense(N_, H0_, C_, 0, enc_, C_, 0, enc_, C_, 0, recon_[0].W, recon_[0].b, r0_, H0_, 0, false, false);
+    stage("recon first layer (LR nodes)");
+    k("upsample_features").args(M_, K_, H0_, up_w_, up_idx_, r0_, ha_).run_1d(size_t(M_) * H0_, 64);
+    stage("upsample");
+    Buffer<float>*in = &ha_, *out = &hb_;
+    for (size_t l = 1; l < recon_.size(); ++l) {
+      const Layer& L = recon_[l];
+      dense(M_, L.out, L.in, 0, *in, L.in, 0, *in, L.in, 0, L.W, L.b, *out, L.out, 0, true, false, w0);
+      std::swap(in, out);
+    }
+    in->download(hr_disp, 3 * size_t(M_));
+    stage("recon SIREN (HR vertices) + read-back");
+  }
+
+ private:
+  compute::Kernel& k(const char* name) { return kernels_.at(name); }
+
+  void dense(uint32_t rows, uint32_t out_dim, uint32_t K1, uint32_t K2, const Buffer<float>& a1, uint32_t s1,
+             uint32_t off1, const Buffer<float>& a2, uint32_t s2, uint32_t off2, const Buffer<float>& W,
+             const Buffer<float>& bias, Buffer<float>& out, uint32_t out_stride, uint32_t out_off, bool in_sine,
+             bool out_leaky, float omega0 = 0) {
+    const size_t tiles = ((rows + kTile - 1) / kTile) * ((out_dim + kTile - 1) / kTile);
+    k("dense")
+        .args(rows, out_dim, K1, K2, a1, s1, off1, a2, s2, off2, W, bias, out, out_stride, out_off,
+              cl_int(in_sine ? 1 : 0), omega0, cl_int(out_leaky ? 1 : 0), float(m_->arch.leaky_slope))
+        .run_1d(tiles * kTile * kTile, kTile * kTile);
+  }
+
+  std::shared_ptr<const SrModel> m_;
+  ClInferenceOptions opt_;
+  compute::Context ctx_;
+  compute::Program prog_;
+  std::map<std::string, compute::Kernel> kernels_;
+  uint32_t N_ = 0, M_ = 0, K_ = 0, C_ = 0, H0_ = 0;
+  std::vector<Block> blocks_;
+  std::vector<Layer> recon_;
+  Buffer<float> pe_, up_w_, disp_, enc_, self_, other_, y_, pooled_, pbias_, sq_, zero_, r0_, ha_, hb_;
+  Buffer<cl_int> up_idx_, graph_, nbr_;
+  size_t pool_local_ = 64, knn_local_ = 64;
+  std::vector<std::pair<std::string, double>> profile_;
+};
+
+}  // namespace
+
+std::unique_ptr<SrInference> make_cl_inference(std::shared_ptr<const SrModel> model, const ClInferenceOptions& opt) {
+  require(model != nullptr, "inference: no model");
+  return std::make_unique<ClInference>(std::move(model), opt);
 }
 
 }  // namespace facesr
