@@ -21,20 +21,75 @@ __kernel void sr_input(const uint N, const uint pe_dim, const float inv_scale, _
 
 // out[r, o] = act(Σ_k A[r, k] · W[o, k] + bias[o]) over two inputs side by
 // side: k < K1 reads a1, k ≥ K1 reads a2 (K2 = 0 for one input); offsets are
-// in elements (column offsets within a wider feature matrix). in_sine
-// applies sin(omega0 · a) to every input value (SIREN layers); out_leaky
-// applies LeakyReLU(slope) to the result. W is out_dim × (K1 + K2).
-// Tiles of A and W are staged in local memory.
-__kernel void dense(const uint rows, const uint out_dim, const uint K1, const uint K2, __global const float* a1,
-                    const uint s1, const uint off1, __global const float* a2, const uint s2, const uint off2,
-                    __global const float* W, __global const float* bias, __global float* out,
-                    const uint out_stride, const uint out_off, const int in_sine, const float omega0,
-                    const int out_leaky, const float slope) {
+// in elements (column offsets within a wider feature matrix). act: 0 none,
+// 1 LeakyReLU(slope), 2 sin(omega0 · v) (a SIREN layer's activation, applied
+// where its output is made so the next layer reads it once). W is
+// out_dim × (K1 + K2), row-major. Two kernels compute the same thing:
+// dense_rows for CPU devices (one work-item per row; contiguous dot products
+// that PoCL vectorises, four outputs per pass over the row) and dense_tiled
+// for GPUs (TILE × TILE tiles staged in local memory).
+#define ACTIVATE(v) (act == 1 ? ((v) < 0.0f ? slope * (v) : (v)) : act == 2 ? sin(omega0 * (v)) : (v))
+
+__kernel void dense_rows(const uint rows, const uint out_dim, const uint K1, const uint K2, __global const float* a1,
+                         const uint s1, const uint off1, __global const float* a2, const uint s2, const uint off2,
+                         __global const float* W, __global const float* bias, __global float* out,
+                         const uint out_stride, const uint out_off, const int act, const float omega0,
+                         const float slope) {
+  const uint r = get_global_id(0);
+  if (r >= rows) return;
+  const uint K = K1 + K2;
+  __global const float* x1 = a1 + off1 + (size_t)r * s1;
+  __global const float* x2 = a2 + off2 + (size_t)r * s2;
+  __global float* y = out + out_off + (size_t)r * out_stride;
+  uint o = 0;
+  for (; o + 4 <= out_dim; o += 4) {
+    __global const float* w0 = W + (size_t)o * K;
+    __global const float* w1 = w0 + K;
+    __global const float* w2 = w1 + K;
+    __global const float* w3 = w2 + K;
+    float t0 = 0.0f, t1 = 0.0f, t2 = 0.0f, t3 = 0.0f;
+    for (uint k = 0; k < K1; ++k) {
+      const float x = x1[k];
+      t0 += x * w0[k];
+      t1 += x * w1[k];
+      t2 += x * w2[k];
+      t3 += x * w3[k];
+    }
+    for (uint k = 0; k < K2; ++k) {
+      const float x = x2[k];
+      t0 += x * w0[K1 + k];
+      t1 += x * w1[K1 + k];
+      t2 += x * w2[K1 + k];
+      t3 += x * w3[K1 + k];
+    }
+    t0 += bias[o];
+    t1 += bias[o + 1];
+    t2 += bias[o + 2];
+    t3 += bias[o + 3];
+    y[o] = ACTIVATE(t0);
+    y[o + 1] = ACTIVATE(t1);
+    y[o + 2] = ACTIVATE(t2);
+    y[o + 3] = ACTIVATE(t3);
+  }
+  for (; o < out_dim; ++o) {
+    __global const float* w = W + (size_t)o * K;
+    float t = bias[o];
+    for (uint k = 0; k < K1; ++k) t += x1[k] * w[k];
+    for (uint k = 0; k < K2; ++k) t += x2[k] * w[K1 + k];
+    y[o] = ACTIVATE(t);
+  }
+}
+
+__kernel void dense_tiled(const uint rows, const uint out_dim, const uint K1, const uint K2, __global const float* a1,
+                          const uint s1, const uint off1, __global const float* a2, const uint s2, const uint off2,
+                          __global const float* W, __global const float* bias, __global float* out,
+                          const uint out_stride, const uint out_off, const int act, const float omega0,
+                          const float slope) {
+  __local float As[TILE][TILE + 1];
+  __local float Ws[TILE][TILE + 1];
   a1 += off1;
   a2 += off2;
   out += out_off;
-  __local float As[TILE][TILE + 1];
-  __local float Ws[TILE][TILE + 1];
   const uint lid = get_local_id(0), ly = lid / TILE, lx = lid % TILE;
   const uint tiles_x = (out_dim + TILE - 1) / TILE;
   const uint group = get_group_id(0);
@@ -46,10 +101,7 @@ __kernel void dense(const uint rows, const uint out_dim, const uint K1, const ui
     // A tile: row r0 + ly, column k0 + lx. W tile: output o0 + ly, column k0 + lx.
     const uint ka = k0 + lx;
     float av = 0.0f;
-    if (r0 + ly < rows && ka < K) {
-      av = ka < K1 ? a1[(size_t)(r0 + ly) * s1 + ka] : a2[(size_t)(r0 + ly) * s2 + (ka - K1)];
-      if (in_sine) av = sin(omega0 * av);
-    }
+    if (r0 + ly < rows && ka < K) av = ka < K1 ? a1[(size_t)(r0 + ly) * s1 + ka] : a2[(size_t)(r0 + ly) * s2 + (ka - K1)];
     As[ly][lx] = av;
     Ws[ly][lx] = (o0 + ly < out_dim && ka < K) ? W[(size_t)(o0 + ly) * K + ka] : 0.0f;
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -57,9 +109,8 @@ __kernel void dense(const uint rows, const uint out_dim, const uint K1, const ui
     barrier(CLK_LOCAL_MEM_FENCE);
   }
   if (r < rows && o < out_dim) {
-    float v = acc + bias[o];
-    if (out_leaky && v < 0.0f) v *= slope;
-    out[(size_t)r * out_stride + o] = v;
+    const float v = acc + bias[o];
+    out[(size_t)r * out_stride + o] = ACTIVATE(v);
   }
 }
 
@@ -135,63 +186,54 @@ __kernel void row_sqnorm(const uint N, const uint D, __global const float* h, co
 }
 
 // k nearest other rows in feature space by |a|² + |b|² − 2 a·b (the formula
-// the trained network used), nearest first, ties by lower index. One work-item
-// per query; candidates stream through local memory in blocks of KNN_BLOCK
-// rows shared by the work-group. k ≤ KNN_MAX_K, D ≤ KNN_MAX_D.
-#define KNN_BLOCK 32
+// the trained network used), nearest first, ties by lower index. One
+// work-item per query, scanning every candidate: O(N² D), the inference's
+// largest cost. k ≤ KNN_MAX_K.
 #define KNN_MAX_K 16
-#define KNN_MAX_D 256
 __kernel void feature_knn(const uint N, const uint D, const uint k, __global const float* h, const uint s,
-                          const uint off, __global const float* sq, __global int* nbr, __local float* block) {
-  const uint i = get_global_id(0), lid = get_local_id(0), L = get_local_size(0);
+                          const uint off, __global const float* sq, __global int* nbr) {
+  const uint i = get_global_id(0);
+  if (i >= N) return;
   h += off;
-  const bool active = i < N;
-  float q[KNN_MAX_D];
-  if (active)
-    for (uint c = 0; c < D; ++c) q[c] = h[(size_t)i * s + c];
-  const float sqi = active ? sq[i] : 0.0f;
+  __global const float* q = h + (size_t)i * s;
+  const float sqi = sq[i];
   float bd[KNN_MAX_K];
   int bi[KNN_MAX_K];
   for (uint t = 0; t < k; ++t) {
     bd[t] = INFINITY;
     bi[t] = 0x7fffffff;
   }
-  for (uint j0 = 0; j0 < N; j0 += KNN_BLOCK) {
-    const uint nb = min((uint)KNN_BLOCK, N - j0);
-    for (uint e = lid; e < nb * D; e += L) block[e] = h[(size_t)(j0 + e / D) * s + e % D];
-    barrier(CLK_LOCAL_MEM_FENCE);
-    if (active)
-      for (uint jj = 0; jj < nb; ++jj) {
-        const uint j = j0 + jj;
-        if (j == i) continue;
-        float dot = 0.0f;
-        for (uint c = 0; c < D; ++c) dot += q[c] * block[jj * D + c];
-        const float d = sqi + sq[j] - 2.0f * dot;
-        if (d < bd[k - 1] || (d == bd[k - 1] && (int)j < bi[k - 1])) {
-          int t = (int)k - 1;
-          while (t > 0 && (d < bd[t - 1] || (d == bd[t - 1] && (int)j < bi[t - 1]))) {
-            bd[t] = bd[t - 1];
-            bi[t] = bi[t - 1];
-            --t;
-          }
-          bd[t] = d;
-          bi[t] = (int)j;
-        }
+  for (uint j = 0; j < N; ++j) {
+    if (j == i) continue;
+    __global const float* p = h + (size_t)j * s;
+    float dot = 0.0f;
+    for (uint c = 0; c < D; ++c) dot += q[c] * p[c];
+    const float d = sqi + sq[j] - 2.0f * dot;
+    // Candidates come in increasing index, so a tie never displaces an earlier one.
+    if (d < bd[k - 1]) {
+      int t = (int)k - 1;
+      while (t > 0 && d < bd[t - 1]) {
+        bd[t] = bd[t - 1];
+        bi[t] = bi[t - 1];
+        --t;
       }
-    barrier(CLK_LOCAL_MEM_FENCE);
+      bd[t] = d;
+      bi[t] = (int)j;
+    }
   }
-  if (active)
-    for (uint t = 0; t < k; ++t) nbr[(size_t)i * k + t] = bi[t];
+  for (uint t = 0; t < k; ++t) nbr[(size_t)i * k + t] = bi[t];
 }
 
-// Coordinate-based upsampling with the load-time weights:
-// pre[j, c] = Σ_q w[j, q] · r[idx[j, q], c] (r: N × H, pre: M × H).
-__kernel void upsample_features(const uint M, const uint K, const uint H, __global const float* w, __global const int* idx,
-                       __global const float* r, __global float* pre) {
+// Coordinate-based upsampling with the load-time weights, then the first
+// SIREN activation: pre[j, c] = sin(omega0 · Σ_q w[j, q] · r[idx[j, q], c])
+// (r: N × H, the first reconstruction layer's affine map on the LR nodes).
+__kernel void upsample_features(const uint M, const uint K, const uint H, __global const float* w,
+                                __global const int* idx, __global const float* r, const float omega0,
+                                __global float* pre) {
   const uint id = get_global_id(0);
   if (id >= M * H) return;
   const uint j = id / H, c = id % H;
   float s = 0.0f;
   for (uint q = 0; q < K; ++q) s += w[(size_t)j * K + q] * r[(size_t)idx[(size_t)j * K + q] * H + c];
-  pre[id] = s;
+  pre[id] = sin(omega0 * s);
 }

@@ -293,6 +293,7 @@ void register_simulate(CLI::App& app) {
 void register_bench(CLI::App& app) {
   auto* bench = app.add_subcommand("bench", "Benchmarks (results can be written into BENCHMARKS.md)");
   bench->require_subcommand(1);
+  add_bench_runtime(bench);
   struct Args {
     std::string rig, res = "low", builtin = "talk", markdown;
     int frames = 60;

@@ -52,7 +52,7 @@ class ClInference final : public SrInference {
     K_ = uint32_t(plan.K);
     require(a.graph_k <= 16, "OpenCL inference: graph_k " + std::to_string(a.graph_k) + " is above the kernels' 16");
     prog_ = ctx_.build_program({"sr_infer.cl"}, "-cl-std=CL1.2");
-    for (const char* k : {"sr_input", "dense", "edge_max", "pool_columns", "pooled_bias", "row_sqnorm", "feature_knn",
+    for (const char* k : {"sr_input", "dense_rows", "dense_tiled", "edge_max", "pool_columns", "pooled_bias", "row_sqnorm", "feature_knn",
                           "upsample_features"})
       kernels_.emplace(k, prog_.kernel(k));
     const cl_mem_flags ro = CL_MEM_READ_ONLY;
@@ -131,7 +131,6 @@ class ClInference final : public SrInference {
     // The column reduction halves its work-group: a power of two.
     pool_local_ = 1;
     while (pool_local_ * 2 <= std::min<size_t>(256, kernels_.at("pool_columns").max_work_group_size())) pool_local_ *= 2;
-    knn_local_ = std::min<size_t>(64, kernels_.at("feature_knn").max_work_group_size());
   }
 
   std::string device() const override { return ctx_.device().device_name + " (OpenCL, float)"; }
@@ -160,33 +159,34 @@ class ClInference final : public SrInference {
         // The graph of this submodule in its input's feature space.
         k("row_sqnorm").args(N_, b.in, enc_, C_, b.in_off, sq_).run_1d(N_, 64);
         k("feature_knn")
-            .args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, nbr_, LocalMemory{32 * b.in * sizeof(float)})
-            .run_1d(N_, knn_local_);
+            .args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, nbr_)
+            .run_1d(N_, 16);
         nbr = &nbr_;
         stage("feature knn");
       }
-      dense(N_, b.D, b.in, 0, enc_, C_, b.in_off, enc_, C_, 0, b.W_self, b.b_self, self_, b.D, 0, false, false);
-      dense(N_, b.D, b.in, 0, enc_, C_, b.in_off, enc_, C_, 0, b.W_other, zero_, other_, b.D, 0, false, false);
+      dense(N_, b.D, b.in, 0, enc_, C_, b.in_off, enc_, C_, 0, b.W_self, b.b_self, self_, b.D, 0, kNone);
+      dense(N_, b.D, b.in, 0, enc_, C_, b.in_off, enc_, C_, 0, b.W_other, zero_, other_, b.D, 0, kNone);
       k("edge_max").args(N_, b.D, k_nn, self_, other_, *nbr, slope, y_).run_1d(size_t(N_) * b.D, 64);
       stage("edgeconv");
       k("pool_columns")
           .args(N_, b.D, y_, pooled_, LocalMemory{pool_local_ * sizeof(float)}, LocalMemory{pool_local_ * sizeof(float)})
           .run_1d(size_t(b.D) * pool_local_, pool_local_);
       k("pooled_bias").args(b.D, b.in, b.W_fc, b.b_fc, pooled_, pbias_).run_1d(b.D, 64);
-      dense(N_, b.D, b.D, b.in, y_, b.D, 0, enc_, C_, b.in_off, b.W_node, pbias_, enc_, C_, b.out_off, false, true);
+      dense(N_, b.D, b.D, b.in, y_, b.D, 0, enc_, C_, b.in_off, b.W_node, pbias_, enc_, C_, b.out_off, kLeaky);
       stage("pool + shared fc");
     }
     // Reconstruction: the first affine map on the N LR nodes, then the fixed
     // upsampling, then the remaining SIREN layers on the M HR vertices.
     const float w0 = float(a.omega0);
-    dense(N_, H0_, C_, 0, enc_, C_, 0, enc_, C_, 0, recon_[0].W, recon_[0].b, r0_, H0_, 0, false, false);
+    dense(N_, H0_, C_, 0, enc_, C_, 0, enc_, C_, 0, recon_[0].W, recon_[0].b, r0_, H0_, 0, kNone);
     stage("recon first layer (LR nodes)");
-    k("upsample_features").args(M_, K_, H0_, up_w_, up_idx_, r0_, ha_).run_1d(size_t(M_) * H0_, 64);
+    k("upsample_features").args(M_, K_, H0_, up_w_, up_idx_, r0_, w0, ha_).run_1d(size_t(M_) * H0_, 64);
     stage("upsample");
     Buffer<float>*in = &ha_, *out = &hb_;
     for (size_t l = 1; l < recon_.size(); ++l) {
       const Layer& L = recon_[l];
-      dense(M_, L.out, L.in, 0, *in, L.in, 0, *in, L.in, 0, L.W, L.b, *out, L.out, 0, true, false, w0);
+      const bool last = l + 1 == recon_.size();
+      dense(M_, L.out, L.in, 0, *in, L.in, 0, *in, L.in, 0, L.W, L.b, *out, L.out, 0, last ? kNone : kSine, w0);
       std::swap(in, out);
     }
     in->download(hr_disp, 3 * size_t(M_));
@@ -196,15 +196,23 @@ class ClInference final : public SrInference {
  private:
   compute::Kernel& k(const char* name) { return kernels_.at(name); }
 
+  enum Act : cl_int { kNone = 0, kLeaky = 1, kSine = 2 };
   void dense(uint32_t rows, uint32_t out_dim, uint32_t K1, uint32_t K2, const Buffer<float>& a1, uint32_t s1,
              uint32_t off1, const Buffer<float>& a2, uint32_t s2, uint32_t off2, const Buffer<float>& W,
-             const Buffer<float>& bias, Buffer<float>& out, uint32_t out_stride, uint32_t out_off, bool in_sine,
-             bool out_leaky, float omega0 = 0) {
-    const size_t tiles = ((rows + kTile - 1) / kTile) * ((out_dim + kTile - 1) / kTile);
-    k("dense")
-        .args(rows, out_dim, K1, K2, a1, s1, off1, a2, s2, off2, W, bias, out, out_stride, out_off,
-              cl_int(in_sine ? 1 : 0), omega0, cl_int(out_leaky ? 1 : 0), float(m_->arch.leaky_slope))
-        .run_1d(tiles * kTile * kTile, kTile * kTile);
+             const Buffer<float>& bias, Buffer<float>& out, uint32_t out_stride, uint32_t out_off, Act act,
+             float omega0 = 0) {
+    // The row kernel on CPU devices (PoCL vectorises its dot products; the
+    // tiled one's barriers cost more there than they save), tiles on GPUs.
+    const bool rows_kernel = ctx_.device().type != compute::DeviceType::Gpu;
+    auto& kern = k(rows_kernel ? "dense_rows" : "dense_tiled");
+    kern.args(rows, out_dim, K1, K2, a1, s1, off1, a2, s2, off2, W, bias, out, out_stride, out_off, cl_int(act), omega0,
+              float(m_->arch.leaky_slope));
+    if (rows_kernel) {
+      kern.run_1d(rows, 16);
+    } else {
+      const size_t tiles = ((rows + kTile - 1) / kTile) * ((out_dim + kTile - 1) / kTile);
+      kern.run_1d(tiles * kTile * kTile, kTile * kTile);
+    }
   }
 
   std::shared_ptr<const SrModel> m_;
@@ -217,7 +225,7 @@ class ClInference final : public SrInference {
   std::vector<Layer> recon_;
   Buffer<float> pe_, up_w_, disp_, enc_, self_, other_, y_, pooled_, pbias_, sq_, zero_, r0_, ha_, hb_;
   Buffer<cl_int> up_idx_, graph_, nbr_;
-  size_t pool_local_ = 64, knn_local_ = 64;
+  size_t pool_local_ = 64;
   std::vector<std::pair<std::string, double>> profile_;
 };
 

@@ -1,0 +1,200 @@
+// facesr play and facesr bench runtime: a performance through the real-time
+// runtime (engine/runtime), as a game would drive it.
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/bench_report.h"
+#include "bench/runtime_bench.h"
+#include "cli/commands.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "dataset/dataset_manifest.h"
+#include "perf/perf_controls.h"
+#include "perf/performance.h"
+#include "render/sequence_gltf.h"
+#include "rig/rig_io.h"
+#include "runtime/runtime_context.h"
+#include "sr/sr_model.h"
+
+namespace facesr::cli {
+
+namespace {
+
+struct RuntimeArgs {
+  std::string rig, model, builtin, performance, device, solver = "realtime";
+  bool cpu_inference = false;
+  void add(CLI::App* sub) {
+    sub->add_option("--rig", rig, "Rig file")->required();
+    sub->add_option("--model", model, "Trained network (.fsm) for this rig")->required();
+    sub->add_option("--builtin", builtin, "Built-in performance (default talk)");
+    sub->add_option("--performance", performance, "Performance file: keyframe JSON or Live Link Face CSV");
+    sub->add_option("--device", device, "OpenCL device: index, name, cpu or gpu (default: first CPU device)");
+    sub->add_option("--solver", solver, "realtime (default) | accurate");
+    sub->add_flag("--cpu-inference", cpu_inference, "The C++ reference inference instead of the OpenCL kernels");
+  }
+  RuntimeOptions options() const {
+    RuntimeOptions o;
+    o.device = compute::DeviceSelector::parse(device);
+    require(solver == "realtime" || solver == "accurate", "--solver must be realtime or accurate, not '" + solver + "'");
+    o.solver = solver == "realtime" ? realtime_solver() : SolverOptions{};
+    o.cpu_inference = cpu_inference;
+    return o;
+  }
+  Performance load(const Rig& rig) const {
+    require(builtin.empty() || performance.empty(), "give --builtin or --performance, not both");
+    return performance.empty() ? builtin_performance(builtin.empty() ? "talk" : builtin, rig.blendshape_names)
+                               : load_performance(performance, rig.blendshape_names);
+  }
+};
+
+void apply(RuntimeContext& ctx, const Performance& p, int f, const Jaw& jaw) {
+  Controls c;
+  frame_controls(p, f, jaw, c);
+  ctx.set_weights(c.weights);
+  if (c.jaw_override)
+    ctx.set_jaw(c.jaw_R, c.jaw_t);
+  else
+    ctx.clear_jaw();
+}
+
+}  // namespace
+
+void register_play(CLI::App& app) {
+  struct Args {
+    RuntimeArgs rt;
+    std::string out;
+    int frames = 0;
+    bool async = false, json = false, quiet = false;
+  };
+  static Args a;
+  auto* sub = app.add_subcommand("play", "Play a performance through the real-time runtime (LR simulation + "
+                                         "super-resolution) and write the animated HR surface as glTF");
+  a.rt.add(sub);
+  sub->add_option("--out,-o", a.out, "Output glTF (.gltf, morph-target animation, cm in a 0.01-scaled node)");
+  sub->add_option("--frames", a.frames, "Play only the first N frames");
+  sub->add_flag("--async", a.async, "Pipeline: simulate frame t+1 while super-resolving frame t");
+  sub->add_flag("--json", a.json, "Print a JSON summary: frames, fps, mean_simulation_ms, mean_inference_ms, device");
+  sub->add_flag("--quiet,-q", a.quiet, "No progress output");
+  add_action(sub, [] {
+    require(a.frames >= 0, "--frames must be >= 0");
+    auto rig = std::make_shared<const Rig>(load_rig(a.rt.rig));
+    auto model = std::make_shared<const SrModel>(load_sr_model(a.rt.model));
+    const Performance perf = a.rt.load(*rig);
+    const int F = a.frames > 0 ? std::min(a.frames, perf.frames()) : perf.frames();
+    require(!a.out.empty() || a.json || !a.quiet, "nothing to do: give --out or --json");
+    if (!a.out.empty()) require(F <= kMaxGltfFrames, "a glTF holds at most " + std::to_string(kMaxGltfFrames) +
+                                                         " frames; use --frames");
+    RuntimeContext ctx(rig, model, a.rt.options());
+    Sequence seq;
+    seq.header.resolution = "high";
+    seq.header.rig_checksum = rig_checksum(*rig);
+    seq.header.fps = perf.fps;
+    seq.header.num_surface = uint64_t(rig->num_surface_vertices());
+    double sim_ms = 0, sr_ms = 0;
+    auto keep = [&] {
+      const FrameResult& r = ctx.result();
+      seq.time.push_back(perf.time(int(r.frame)));
+      seq.surface.insert(seq.surface.end(), r.positions.begin(), r.positions.end());
+      sim_ms += r.simulation_ms;
+      sr_ms += r.inference_ms;
+    };
+    Progress progress("play", F, !a.quiet);
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int f = 0; f < F; ++f) {
+      apply(ctx, perf, f, rig->jaw);
+      if (a.async) {
+        ctx.step_async();
+        if (ctx.pending() == 2) {
+          ctx.wait();
+          keep();
+        }
+      } else {
+        ctx.step();
+        keep();
+      }
+      progress.update(f + 1);
+    }
+    while (ctx.pending() > 0) {
+      ctx.wait();
+      keep();
+    }
+    const double wall = seconds_since(t0);
+    progress.finish();
+    if (!a.out.empty()) write_sequence_gltf(*rig, seq, a.out);
+    const double fps = F / wall;
+    nlohmann::json j = {{"frames", F},
+                        {"fps", fps},
+                        {"wall_s", wall},
+                        {"mean_simulation_ms", sim_ms / F},
+                        {"mean_inference_ms", sr_ms / F},
+                        {"async", a.async},
+                        {"device", ctx.device()},
+                        {"out", a.out},
+                        {"units", "cm"}};
+    if (a.json)
+      std::printf("%s\n", j.dump(2).c_str());
+    else
+      std::printf("played %d frames at %.1f FPS (simulation %.1f ms, super-resolution %.1f ms per frame%s)%s%s\n", F,
+                  fps, sim_ms / F, sr_ms / F, a.async ? ", pipelined" : "", a.out.empty() ? "" : "; wrote ",
+                  a.out.c_str());
+  });
+}
+
+void add_bench_runtime(CLI::App* bench) {
+  struct Args {
+    RuntimeArgs rt;
+    std::string dataset, markdown;
+    int frames = 60;
+    bool json = false, quiet = false;
+  };
+  static Args a;
+  auto* sub = bench->add_subcommand("runtime", "Real-time runtime: LR step, super-resolution, end-to-end and "
+                                               "pipelined FPS, speed-up over the HR simulation");
+  a.rt.add(sub);
+  sub->add_option("--dataset", a.dataset, "Dataset whose HR step times give hr_step_ms (from its manifest)");
+  sub->add_option("--frames", a.frames, "Timed frames per mode (default 60)");
+  sub->add_option("--markdown", a.markdown, "Write the results into this Markdown file (e.g. BENCHMARKS.md)");
+  sub->add_flag("--json", a.json,
+                "Print JSON: lr_step_ms, sr_ms, end_to_end_ms, end_to_end_fps, pipelined_fps, hr_step_ms, "
+                "speedup_vs_hr");
+  sub->add_flag("--quiet,-q", a.quiet, "No progress output");
+  add_action(sub, [] {
+    require(a.frames > 0, "--frames must be positive");
+    auto rig = std::make_shared<const Rig>(load_rig(a.rt.rig));
+    auto model = std::make_shared<const SrModel>(load_sr_model(a.rt.model));
+    const Performance perf = a.rt.load(*rig);
+    std::vector<std::vector<float>> w;
+    for (int f = 0; f < perf.frames(); ++f) w.emplace_back(perf.frame(f), perf.frame(f) + perf.names.size());
+    RuntimeBenchOptions o;
+    o.frames = a.frames;
+    o.runtime = a.rt.options();
+    o.progress = !a.quiet;
+    if (!a.dataset.empty()) {
+      const DatasetManifest m = load_manifest(a.dataset + "/manifest.json");
+      require(m.rig_checksum == rig_checksum(*rig), a.dataset + ": the dataset is of another rig");
+      double s = 0;
+      int n = 0;
+      for (const auto& e : m.sequences)
+        if (e.hr_mean_step_s > 0) {
+          s += e.hr_mean_step_s * e.frames;
+          n += e.frames;
+        }
+      require(n > 0, a.dataset + ": the manifest has no HR step times");
+      o.hr_step_ms = 1e3 * s / n;
+      o.hr_source = "mean of " + std::to_string(n) + " HR frames in " + a.dataset + " (CPU, with collisions)";
+    }
+    nlohmann::json r = bench_runtime(rig, model, w, o);
+    r["rig"] = rig->name;
+    r["solver_preset"] = a.rt.solver;
+    if (!a.markdown.empty()) update_markdown_section(a.markdown, "bench-runtime-" + rig->name, runtime_bench_markdown(r));
+    if (a.json)
+      std::printf("%s\n", r.dump(2).c_str());
+    else
+      std::printf("%s", runtime_bench_markdown(r).c_str());
+  });
+}
+
+}  // namespace facesr::cli
