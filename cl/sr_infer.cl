@@ -224,6 +224,71 @@ __kernel void feature_knn(const uint N, const uint D, const uint k, __global con
   for (uint t = 0; t < k; ++t) nbr[(size_t)i * k + t] = bi[t];
 }
 
+// The same neighbours as feature_knn, found without scanning every node.
+// For any unit vector u, |a − b|² ≥ ((a − b)·u)², so with the nodes sorted
+// by their projection p = h·u (host side, per frame, u the features' principal
+// direction) a query walks outward from its own place in that order, nearer
+// projection first, and stops once the projection gap alone exceeds its
+// current k-th distance plus `margin`, a bound on the float rounding of the
+// distance formula over every node (host: 1e-5 · (max |h|² + |h_i|²) terms). Ties are broken by lower index, as in feature_knn, so
+// the result is the same set in the same order.
+__kernel void feature_knn_pruned(const uint N, const uint D, const uint k, __global const float* h, const uint s,
+                                 const uint off, __global const float* sq, __global const float* proj_sorted,
+                                 __global const int* order, __global const int* rank, const float margin,
+                                 __global int* nbr) {
+  const uint i = get_global_id(0);
+  if (i >= N) return;
+  h += off;
+  __global const float* q = h + (size_t)i * s;
+  const float sqi = sq[i];
+  const int pos = rank[i];
+  const float pv = proj_sorted[pos];
+  float bd[KNN_MAX_K];
+  int bi[KNN_MAX_K];
+  for (uint t = 0; t < k; ++t) {
+    bd[t] = INFINITY;
+    bi[t] = 0x7fffffff;
+  }
+  int lo = pos - 1, hi = pos + 1;
+  while (lo >= 0 || hi < (int)N) {
+    const float dl = lo >= 0 ? pv - proj_sorted[lo] : INFINITY;
+    const float dh = hi < (int)N ? proj_sorted[hi] - pv : INFINITY;
+    const float gap = fmin(dl, dh);
+    const int at = dl <= dh ? lo-- : hi++;
+    const uint j = (uint)order[at];
+    if (gap * gap > bd[k - 1] + margin) {
+      // Every node further out in this direction has a larger gap; the other
+      // direction may still hold candidates.
+      if (dl <= dh) lo = -1; else hi = (int)N;
+      continue;
+    }
+    __global const float* p = h + (size_t)j * s;
+    float dot = 0.0f;
+    for (uint c = 0; c < D; ++c) dot += q[c] * p[c];
+    const float d = sqi + sq[j] - 2.0f * dot;
+    if (d < bd[k - 1] || (d == bd[k - 1] && (int)j < bi[k - 1])) {
+      int t = (int)k - 1;
+      while (t > 0 && (d < bd[t - 1] || (d == bd[t - 1] && (int)j < bi[t - 1]))) {
+        bd[t] = bd[t - 1];
+        bi[t] = bi[t - 1];
+        --t;
+      }
+      bd[t] = d;
+      bi[t] = (int)j;
+    }
+  }
+  for (uint t = 0; t < k; ++t) nbr[(size_t)i * k + t] = bi[t];
+}
+
+// Copies columns [off, off + D) of an N-row matrix with stride s into a
+// compact N × D buffer (for the host's per-frame projection).
+__kernel void copy_columns(const uint N, const uint D, __global const float* h, const uint s, const uint off,
+                           __global float* out) {
+  const uint id = get_global_id(0);
+  if (id >= N * D) return;
+  out[id] = h[(size_t)(id / D) * s + off + id % D];
+}
+
 // Coordinate-based upsampling with the load-time weights, then the first
 // SIREN activation: pre[j, c] = sin(omega0 · Σ_q w[j, q] · r[idx[j, q], c])
 // (r: N × H, the first reconstruction layer's affine map on the LR nodes).

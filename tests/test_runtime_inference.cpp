@@ -94,6 +94,23 @@ TEST(RuntimeInference, OpenClMatchesLibTorch) {
   }
 }
 
+TEST(RuntimeInference, PrunedFeatureKnnGivesTheSameOutputAsTheFullScan) {
+  // Identical neighbours give bit-identical outputs; any missed neighbour
+  // changes the EdgeConv maximum somewhere.
+  const auto m = random_model(true, true, 17);
+  ClInferenceOptions full;
+  full.pruned_knn = false;
+  auto a = make_cl_inference(m), b = make_cl_inference(m, full);
+  const auto lr = lr_frames(*m, 4);
+  for (int64_t f = 0; f < lr.size(0); ++f) {
+    std::vector<float> oa(size_t(3 * m->num_hr)), ob(oa.size());
+    const auto in = lr[f].contiguous();
+    a->infer(in.data_ptr<float>(), oa.data());
+    b->infer(in.data_ptr<float>(), ob.data());
+    EXPECT_EQ(oa, ob) << "frame " << f;
+  }
+}
+
 TEST(RuntimeInference, OpenClProfileNamesEveryStage) {
   const auto m = random_model(true, true, 2);
   ClInferenceOptions o;

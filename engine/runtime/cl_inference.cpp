@@ -3,6 +3,7 @@
 // (a fixed sparse matrix), the EdgeConv weight split Θ1 − Θ2 / Θ2, the
 // shared FC's per-node columns, and the output scale folded into the last
 // layer. A frame uploads N × 3 floats and downloads M × 3.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -53,6 +54,7 @@ class ClInference final : public SrInference {
     require(a.graph_k <= 16, "OpenCL inference: graph_k " + std::to_string(a.graph_k) + " is above the kernels' 16");
     prog_ = ctx_.build_program({"sr_infer.cl"}, "-cl-std=CL1.2");
     for (const char* k : {"sr_input", "dense_rows", "dense_tiled", "edge_max", "pool_columns", "pooled_bias", "row_sqnorm", "feature_knn",
+                          "feature_knn_pruned", "copy_columns",
                           "upsample_features"})
       kernels_.emplace(k, prog_.kernel(k));
     const cl_mem_flags ro = CL_MEM_READ_ONLY;
@@ -126,6 +128,9 @@ class ClInference final : public SrInference {
     nbr_ = Buffer<cl_int>(ctx_, size_t(N_) * size_t(a.graph_k));
     zero_ = Buffer<float>(ctx_, std::vector<float>(std::max(Dmax, Hmax), 0.0f), ro);
     r0_ = Buffer<float>(ctx_, size_t(N_) * H0_);
+    proj_ = Buffer<float>(ctx_, N_);
+    order_ = Buffer<cl_int>(ctx_, N_);
+    rank_ = Buffer<cl_int>(ctx_, N_);
     ha_ = Buffer<float>(ctx_, size_t(M_) * Hmax);
     hb_ = Buffer<float>(ctx_, size_t(M_) * Hmax);
     // The column reduction halves its work-group: a power of two.
@@ -158,9 +163,14 @@ class ClInference final : public SrInference {
       if (s > 0) {
         // The graph of this submodule in its input's feature space.
         k("row_sqnorm").args(N_, b.in, enc_, C_, b.in_off, sq_).run_1d(N_, 64);
-        k("feature_knn")
-            .args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, nbr_)
-            .run_1d(N_, 16);
+        if (opt_.pruned_knn) {
+          const float margin = project(b);
+          k("feature_knn_pruned")
+              .args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, proj_, order_, rank_, margin, nbr_)
+              .run_1d(N_, 16);
+        } else {
+          k("feature_knn").args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, nbr_).run_1d(N_, 16);
+        }
         nbr = &nbr_;
         stage("feature knn");
       }
@@ -196,6 +206,75 @@ class ClInference final : public SrInference {
  private:
   compute::Kernel& k(const char* name) { return kernels_.at(name); }
 
+  // The per-frame order for feature_knn_pruned: the submodule input's
+  // principal direction u (power iteration on the centred features, started
+  // from last frame's u), the nodes sorted by h·u, and each node's rank.
+  // Returns the rounding margin for the pruning test.
+  float project(const Block& b) {
+    const uint32_t D = b.in;
+    if (compact_.size() < size_t(N_) * D) compact_ = Buffer<float>(ctx_, size_t(N_) * D);
+    k("copy_columns").args(N_, D, enc_, C_, b.in_off, compact_).run_1d(size_t(N_) * D, 64);
+    host_h_.resize(size_t(N_) * D);
+    compact_.download(host_h_.data(), host_h_.size());
+    std::vector<double> mean(D, 0.0), u = u_.size() == D ? u_ : std::vector<double>(D, 1.0), v(D);
+    double sqmax = 0;
+    for (uint32_t i = 0; i < N_; ++i) {
+      double sq = 0;
+      for (uint32_t c = 0; c < D; ++c) {
+        const double x = host_h_[size_t(i) * D + c];
+        mean[c] += x;
+        sq += x * x;
+      }
+      sqmax = std::max(sqmax, sq);
+    }
+    for (double& m : mean) m /= N_;
+    std::vector<double> t(N_);
+    for (int it = 0; it < 8; ++it) {
+      double norm = 0;
+      for (double x : u) norm += x * x;
+      norm = std::sqrt(norm);
+      if (norm == 0) break;
+      for (double& x : u) x /= norm;
+      std::fill(v.begin(), v.end(), 0.0);
+      for (uint32_t i = 0; i < N_; ++i) {
+        const float* h = &host_h_[size_t(i) * D];
+        double dot = 0;
+        for (uint32_t c = 0; c < D; ++c) dot += (h[c] - mean[c]) * u[c];
+        for (uint32_t c = 0; c < D; ++c) v[c] += dot * (h[c] - mean[c]);
+      }
+      u.swap(v);
+    }
+    double norm = 0;
+    for (double x : u) norm += x * x;
+    norm = std::sqrt(norm);
+    if (!(norm > 0)) {
+      u.assign(D, 0.0);
+      u[0] = 1;
+      norm = 1;
+    }
+    for (double& x : u) x /= norm;
+    u_ = u;
+    std::vector<int32_t> order(N_), rank(N_);
+    for (uint32_t i = 0; i < N_; ++i) {
+      double p = 0;
+      for (uint32_t c = 0; c < D; ++c) p += host_h_[size_t(i) * D + c] * u[c];
+      t[i] = p;
+      order[i] = int32_t(i);
+    }
+    std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) { return t[a] < t[b] || (t[a] == t[b] && a < b); });
+    std::vector<float> ps(N_);
+    for (uint32_t r = 0; r < N_; ++r) {
+      ps[r] = float(t[size_t(order[r])]);
+      rank[size_t(order[r])] = int32_t(r);
+    }
+    proj_.upload(ps);
+    order_.upload(order);
+    rank_.upload(rank);
+    // The distance formula's float error is below ~D·2⁻²⁴·(|a|² + |b|²);
+    // 1e-5 · 2 max|h|² covers D up to about 80 with a wide safety factor.
+    return float(1e-5 * 2 * sqmax * std::max(1.0, D / 64.0) + 1e-12);
+  }
+
   enum Act : cl_int { kNone = 0, kLeaky = 1, kSine = 2 };
   void dense(uint32_t rows, uint32_t out_dim, uint32_t K1, uint32_t K2, const Buffer<float>& a1, uint32_t s1,
              uint32_t off1, const Buffer<float>& a2, uint32_t s2, uint32_t off2, const Buffer<float>& W,
@@ -224,7 +303,10 @@ class ClInference final : public SrInference {
   std::vector<Block> blocks_;
   std::vector<Layer> recon_;
   Buffer<float> pe_, up_w_, disp_, enc_, self_, other_, y_, pooled_, pbias_, sq_, zero_, r0_, ha_, hb_;
-  Buffer<cl_int> up_idx_, graph_, nbr_;
+  Buffer<cl_int> up_idx_, graph_, nbr_, order_, rank_;
+  Buffer<float> proj_, compact_;
+  std::vector<float> host_h_;
+  std::vector<double> u_;
   size_t pool_local_ = 64;
   std::vector<std::pair<std::string, double>> profile_;
 };

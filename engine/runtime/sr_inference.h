@@ -40,6 +40,9 @@ std::unique_ptr<SrInference> make_cpu_inference(std::shared_ptr<const SrModel> m
 struct ClInferenceOptions {
   compute::DeviceSelector device;
   bool profile = false;  // wait after each stage and time it (slower)
+  // Feature-space k-NN by projection pruning (exact: the same neighbours as
+  // the full scan, which stays available for checks and comparisons).
+  bool pruned_knn = true;
 };
 std::unique_ptr<SrInference> make_cl_inference(std::shared_ptr<const SrModel> model,
                                                const ClInferenceOptions& opt = {});
