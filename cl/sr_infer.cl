@@ -190,6 +190,25 @@ __kernel void row_sqnorm(const uint N, const uint D, __global const float* h, co
 // work-item per query, scanning every candidate: O(N² D), the inference's
 // largest cost. k ≤ KNN_MAX_K.
 #define KNN_MAX_K 16
+
+// a·b over D floats with four independent float4 partial sums: the explicit
+// order lets the compiler use SIMD without fast-math reassociation (which
+// would also loosen the SIREN sines elsewhere in this program).
+float dot_rows(__global const float* a, __global const float* b, const uint D) {
+  float4 s0 = (float4)(0.0f), s1 = (float4)(0.0f), s2 = (float4)(0.0f), s3 = (float4)(0.0f);
+  uint c = 0;
+  for (; c + 16 <= D; c += 16) {
+    s0 += vload4(0, a + c) * vload4(0, b + c);
+    s1 += vload4(0, a + c + 4) * vload4(0, b + c + 4);
+    s2 += vload4(0, a + c + 8) * vload4(0, b + c + 8);
+    s3 += vload4(0, a + c + 12) * vload4(0, b + c + 12);
+  }
+  const float4 s = (s0 + s1) + (s2 + s3);
+  float t = (s.x + s.y) + (s.z + s.w);
+  for (; c < D; ++c) t += a[c] * b[c];
+  return t;
+}
+
 __kernel void feature_knn(const uint N, const uint D, const uint k, __global const float* h, const uint s,
                           const uint off, __global const float* sq, __global int* nbr) {
   const uint i = get_global_id(0);
@@ -205,10 +224,7 @@ __kernel void feature_knn(const uint N, const uint D, const uint k, __global con
   }
   for (uint j = 0; j < N; ++j) {
     if (j == i) continue;
-    __global const float* p = h + (size_t)j * s;
-    float dot = 0.0f;
-    for (uint c = 0; c < D; ++c) dot += q[c] * p[c];
-    const float d = sqi + sq[j] - 2.0f * dot;
+    const float d = sqi + sq[j] - 2.0f * dot_rows(q, h + (size_t)j * s, D);
     // Candidates come in increasing index, so a tie never displaces an earlier one.
     if (d < bd[k - 1]) {
       int t = (int)k - 1;
@@ -262,10 +278,7 @@ __kernel void feature_knn_pruned(const uint N, const uint D, const uint k, __glo
       if (dl <= dh) lo = -1; else hi = (int)N;
       continue;
     }
-    __global const float* p = h + (size_t)j * s;
-    float dot = 0.0f;
-    for (uint c = 0; c < D; ++c) dot += q[c] * p[c];
-    const float d = sqi + sq[j] - 2.0f * dot;
+    const float d = sqi + sq[j] - 2.0f * dot_rows(q, h + (size_t)j * s, D);
     if (d < bd[k - 1] || (d == bd[k - 1] && (int)j < bi[k - 1])) {
       int t = (int)k - 1;
       while (t > 0 && (d < bd[t - 1] || (d == bd[t - 1] && (int)j < bi[t - 1]))) {

@@ -1,0 +1,43 @@
+#include "sr_fixtures.h"
+
+#include "rig/rig_io.h"
+#include "sr/sr_geometry.h"
+#include "test_support.h"
+#include "train/model_export.h"
+#include "train/sr_network.h"
+
+namespace facesr::fixtures {
+
+std::shared_ptr<SrModel> random_model(bool fe, bool cu, uint64_t seed) {
+  const Rig& rig = procedural_rig();
+  auto m = std::make_shared<SrModel>();
+  m->arch.feature_encoding = fe;
+  m->arch.coordinate_upsampling = cu;
+  m->arch.recon_hidden = {64, 64};
+  m->rig_name = rig.name;
+  m->rig_checksum = rig_checksum(rig);
+  m->geometry = build_sr_geometry(rig);
+  m->num_lr = m->geometry.num_lr;
+  m->num_hr = m->geometry.num_hr;
+  m->arch.input_scale = 0.2;
+  m->arch.output_scale = 0.3;
+  set_coordinate_frame(m->arch, m->geometry);
+  torch::manual_seed(seed);
+  SrNetwork net(m->arch, m->geometry);
+  if (!cu) {
+    torch::NoGradGuard ng;
+    net->named_parameters().find("free_weights")->normal_();
+  }
+  export_parameters(*net, *m);
+  return m;
+}
+
+torch::Tensor lr_frames(const SrModel& m, int F) {
+  const auto x = torch::from_blob(const_cast<float*>(m.geometry.lr_rest.data()), {m.num_lr, 3}).clone();
+  std::vector<torch::Tensor> out;
+  for (int f = 0; f < F; ++f)
+    out.push_back(0.3 * torch::sin(x * (0.4 + 0.1 * f) + f) + 0.02 * torch::randn({m.num_lr, 3}));
+  return torch::stack(out);
+}
+
+}  // namespace facesr::fixtures

@@ -1,0 +1,18 @@
+#pragma once
+// Models for runtime tests that need no training: the network with random
+// (SIREN-initialised) weights on the coarse procedural rig, exported as a
+// model file would hold it.
+#include <memory>
+
+#include <torch/torch.h>
+
+#include "sr/sr_model.h"
+
+namespace facesr::fixtures {
+
+std::shared_ptr<SrModel> random_model(bool feature_encoding = true, bool coordinate_upsampling = true,
+                                      uint64_t seed = 1);
+// F frames of smooth LR displacements of a plausible size (a few mm): F × N × 3.
+torch::Tensor lr_frames(const SrModel& m, int F);
+
+}  // namespace facesr::fixtures
