@@ -209,15 +209,22 @@ TEST_F(RigIo, RoundTripIsBitExact) {
   EXPECT_EQ(b.predeform.surface_predeformed, a.predeform.surface_predeformed);
 }
 
-TEST_F(RigIo, ChecksumIsStableAndStoredInFile) {
+TEST_F(RigIo, ChecksumIdentifiesTheContentNotTheBuildRecord) {
   const Rig a = make_rig();
   save_rig(a, path("a.rig"));
   const Rig b = load_rig(path("a.rig"));
   EXPECT_EQ(rig_checksum(a), rig_checksum(b));
+  // The file's own integrity checksum covers every byte, the build record too.
   const auto bytes = read_bytes(path("a.rig"));
   uint64_t stored;
   std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
-  EXPECT_EQ(stored, rig_checksum(a));
+  EXPECT_EQ(stored, fnv1a64(bytes.data() + 24, bytes.size() - 32));
+
+  // A rebuild differs only in its build record: same identity.
+  Rig rebuilt = a;
+  rebuilt.build_seconds += 3.5;
+  rebuilt.source = "/somewhere/else/" + a.source;
+  EXPECT_EQ(rig_checksum(rebuilt), rig_checksum(a));
 
   Rig c = a;
   c.hr.track_area[0] += 1e-3f;

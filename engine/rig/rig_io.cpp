@@ -361,8 +361,12 @@ void validate_rig(const Rig& rig, const std::string& context) {
 }
 
 uint64_t rig_checksum(const Rig& rig) {
+  // The build record (build_seconds, source: the last two payload fields, an
+  // f64 and a string) is left out, so rebuilding a head with the same code
+  // gives the same identity and a shipped model still fits.
   const auto payload = serialize(rig);
-  return fnv1a64(payload.data(), payload.size());
+  const size_t record = sizeof(double) + sizeof(uint64_t) + rig.source.size();
+  return fnv1a64(payload.data(), payload.size() - record);
 }
 
 void save_rig(const Rig& rig, const std::string& path) {

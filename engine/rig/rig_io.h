@@ -56,7 +56,8 @@ void save_rig(const Rig& rig, const std::string& path);
 Rig load_rig(const std::string& path);
 
 // FNV-1a 64 of the serialized payload: identifies the exact rig a trained
-// model belongs to. Equal to the checksum stored in the rig's file.
+// model belongs to. The build record (build_seconds, source) is not part of
+// it: the rig builder is deterministic, so a rebuilt rig keeps its checksum.
 uint64_t rig_checksum(const Rig& rig);
 
 }  // namespace facesr
