@@ -10,10 +10,6 @@ namespace {
 
 constexpr facesr_status kOk = FACESR_OK;
 
-static_assert(sizeof(facesr_context_def) == kContextDefV1, "facesr_context_def changed: keep the v1 prefix");
-static_assert(sizeof(facesr_spring_def) == kSpringDefV1, "facesr_spring_def changed: keep the v1 prefix");
-static_assert(sizeof(facesr_sphere_def) == kSphereDefV1, "facesr_sphere_def changed: keep the v1 prefix");
-
 // Defaults of the spring and sphere definitions: the stiffnesses that visibly
 // pull a lip corner and push a cheek on the realtime solver.
 constexpr float kSpringStiffness = 100, kSphereRadius = 1, kSphereStiffness = 200;
@@ -32,11 +28,13 @@ facesr_status create(const facesr_rig* rig, const facesr_model* model, const fac
   static const char* fn = "facesr_context_create";
   const LoadedRig& l = *rig->loaded;
   if (d.solver != FACESR_SOLVER_REALTIME && d.solver != FACESR_SOLVER_ACCURATE)
-    return fail(FACESR_ERROR_INVALID_ARGUMENT, fn, "solver " + std::to_string(d.solver) +
-                                                       " is not FACESR_SOLVER_REALTIME (0) or FACESR_SOLVER_ACCURATE (1)");
+    return fail(
+        FACESR_ERROR_INVALID_ARGUMENT, fn,
+        "solver " + std::to_string(d.solver) + " is not FACESR_SOLVER_REALTIME (0) or FACESR_SOLVER_ACCURATE (1)");
   if (d.inference != FACESR_INFERENCE_OPENCL && d.inference != FACESR_INFERENCE_CPU)
-    return fail(FACESR_ERROR_INVALID_ARGUMENT, fn, "inference " + std::to_string(d.inference) +
-                                                       " is not FACESR_INFERENCE_OPENCL (0) or FACESR_INFERENCE_CPU (1)");
+    return fail(
+        FACESR_ERROR_INVALID_ARGUMENT, fn,
+        "inference " + std::to_string(d.inference) + " is not FACESR_INFERENCE_OPENCL (0) or FACESR_INFERENCE_CPU (1)");
   if (d.device_index < -1)
     return fail(FACESR_ERROR_INVALID_ARGUMENT, fn,
                 "device_index " + std::to_string(d.device_index) + " is negative (use -1 for the default)");
@@ -136,8 +134,9 @@ facesr_status facesr_set_weight_by_name(facesr_context* context, const char* nam
     const LoadedRig& l = *context->loaded;
     const auto it = l.index.find(name);
     if (it == l.index.end())
-      return fail(FACESR_ERROR_NOT_FOUND, fn, "no blendshape named '" + std::string(name) + "' in rig '" +
-                                                  l.rig->name + "' (names are case-sensitive ARKit names)");
+      return fail(FACESR_ERROR_NOT_FOUND, fn,
+                  "no blendshape named '" + std::string(name) + "' in rig '" + l.rig->name +
+                      "' (names are case-sensitive ARKit names)");
     context->runtime->set_weight(it->second, value);
     return kOk;
   });

@@ -54,8 +54,7 @@ facesr_status fail(facesr_status status, const char* fn, const std::string& mess
 facesr_status null_argument(const char* fn, const char* what) noexcept;
 
 // BUFFER_SIZE naming the buffer, what it holds and the count it needs.
-facesr_status wrong_count(const char* fn, const char* what, int64_t given, int64_t required,
-                          const char* rule) noexcept;
+facesr_status wrong_count(const char* fn, const char* what, int64_t given, int64_t required, const char* rule) noexcept;
 
 // Runs body() (which returns a status). A facesr::Error becomes `on_error`
 // with its message; anything else is FACESR_ERROR_INTERNAL. Nothing escapes:
@@ -102,8 +101,11 @@ facesr_status read_def(const char* fn, const char* type, const S* in, size_t v1_
   return FACESR_OK;
 }
 
-// Sizes of the version-1 definition structs, fixed forever (they are the
-// smallest struct_size any caller can legitimately pass).
-constexpr size_t kContextDefV1 = 24, kSpringDefV1 = 24, kSphereDefV1 = 24;
+// Sizes of the version-1 definitions: up to the end of their last version-1
+// field, which stays put as later versions append fields. They are the
+// smallest struct_size a caller can legitimately pass.
+constexpr size_t kContextDefV1 = offsetof(facesr_context_def, inference) + sizeof(int32_t);
+constexpr size_t kSpringDefV1 = offsetof(facesr_spring_def, stiffness) + sizeof(float);
+constexpr size_t kSphereDefV1 = offsetof(facesr_sphere_def, stiffness) + sizeof(float);
 
 }  // namespace facesr::capi

@@ -68,8 +68,7 @@ facesr_status facesr_rig_blendshape_name(const facesr_rig* rig, int32_t index, c
     const auto& names = rig->loaded->rig->blendshape_names;
     require(buf_size >= 0, "buf_size is " + std::to_string(buf_size) + ", must be >= 0");
     require(index >= 0 && size_t(index) < names.size(),
-            "blendshape index " + std::to_string(index) + " is out of range [0, " + std::to_string(names.size()) +
-                ")");
+            "blendshape index " + std::to_string(index) + " is out of range [0, " + std::to_string(names.size()) + ")");
     const std::string& name = names[size_t(index)];
     if (buf_size > 0) {
       const size_t n = std::min(name.size(), size_t(buf_size) - 1);
@@ -90,8 +89,9 @@ facesr_status facesr_rig_blendshape_index(const facesr_rig* rig, const char* nam
     const LoadedRig& l = *rig->loaded;
     const auto it = l.index.find(name);
     if (it == l.index.end())
-      return fail(FACESR_ERROR_NOT_FOUND, fn, "no blendshape named '" + std::string(name) + "' in rig '" +
-                                                  l.rig->name + "' (names are case-sensitive ARKit names)");
+      return fail(FACESR_ERROR_NOT_FOUND, fn,
+                  "no blendshape named '" + std::string(name) + "' in rig '" + l.rig->name +
+                      "' (names are case-sensitive ARKit names)");
     *out_index = it->second;
     return kOk;
   });

@@ -22,8 +22,8 @@ facesr_status wrong_count(const char* fn, const char* what, int64_t given, int64
                           const char* rule) noexcept {
   try {
     return fail(FACESR_ERROR_BUFFER_SIZE, fn,
-                std::string(what) + " has " + std::to_string(given) + " elements; " + std::to_string(required) +
-                    " (" + rule + ") are required");
+                std::string(what) + " has " + std::to_string(given) + " elements; " + std::to_string(required) + " (" +
+                    rule + ") are required");
   } catch (...) {
     return fail(FACESR_ERROR_BUFFER_SIZE, fn, "wrong buffer size");
   }
@@ -51,9 +51,9 @@ facesr_status def_too_small(const char* fn, const char* type, uint32_t struct_si
 facesr_status check_info_size(const char* fn, const char* type, uint32_t struct_size) noexcept {
   if (struct_size >= sizeof(uint32_t)) return FACESR_OK;
   try {
-    return fail(FACESR_ERROR_INVALID_ARGUMENT, fn,
-                std::string(type) + ".struct_size is " + std::to_string(struct_size) + "; set it to sizeof(" + type +
-                    ")");
+    return fail(
+        FACESR_ERROR_INVALID_ARGUMENT, fn,
+        std::string(type) + ".struct_size is " + std::to_string(struct_size) + "; set it to sizeof(" + type + ")");
   } catch (...) {
     return fail(FACESR_ERROR_INVALID_ARGUMENT, fn, "bad struct_size");
   }
@@ -70,20 +70,20 @@ const char* facesr_version_string(void) { return "facesr " FACESR_VERSION; }
 const char* facesr_last_error_message(void) { return facesr::capi::last_error.c_str(); }
 
 const char* facesr_status_name(facesr_status status) {
-  switch (status) {
-    case FACESR_OK: return "FACESR_OK";
-    case FACESR_ERROR_NULL_ARGUMENT: return "FACESR_ERROR_NULL_ARGUMENT";
-    case FACESR_ERROR_INVALID_ARGUMENT: return "FACESR_ERROR_INVALID_ARGUMENT";
-    case FACESR_ERROR_BUFFER_SIZE: return "FACESR_ERROR_BUFFER_SIZE";
-    case FACESR_ERROR_FILE: return "FACESR_ERROR_FILE";
-    case FACESR_ERROR_MISMATCH: return "FACESR_ERROR_MISMATCH";
-    case FACESR_ERROR_DEVICE: return "FACESR_ERROR_DEVICE";
-    case FACESR_ERROR_NOT_FOUND: return "FACESR_ERROR_NOT_FOUND";
-    case FACESR_ERROR_STATE: return "FACESR_ERROR_STATE";
-    case FACESR_ERROR_SIMULATION: return "FACESR_ERROR_SIMULATION";
-    case FACESR_ERROR_INTERNAL: return "FACESR_ERROR_INTERNAL";
-    default: return "unknown";
-  }
+  // Indexed by the FACESR_* codes, which are 0, 1, ... without gaps.
+  static const char* const names[] = {"FACESR_OK",
+                                      "FACESR_ERROR_NULL_ARGUMENT",
+                                      "FACESR_ERROR_INVALID_ARGUMENT",
+                                      "FACESR_ERROR_BUFFER_SIZE",
+                                      "FACESR_ERROR_FILE",
+                                      "FACESR_ERROR_MISMATCH",
+                                      "FACESR_ERROR_DEVICE",
+                                      "FACESR_ERROR_NOT_FOUND",
+                                      "FACESR_ERROR_STATE",
+                                      "FACESR_ERROR_SIMULATION",
+                                      "FACESR_ERROR_INTERNAL"};
+  static_assert(sizeof names / sizeof names[0] == FACESR_ERROR_INTERNAL + 1, "a status without a name");
+  return status >= 0 && status <= FACESR_ERROR_INTERNAL ? names[status] : "unknown";
 }
 
 }  // extern "C"

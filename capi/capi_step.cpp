@@ -32,8 +32,8 @@ facesr_status facesr_step(facesr_context* context) {
   if (!context) return null_argument(fn, "context");
   return guarded(fn, FACESR_ERROR_SIMULATION, [&] {
     if (const int p = context->runtime->pending())
-      return fail(FACESR_ERROR_STATE, fn, std::to_string(p) +
-                                              " asynchronous frame(s) pending; call facesr_wait until none is left");
+      return fail(FACESR_ERROR_STATE, fn,
+                  std::to_string(p) + " asynchronous frame(s) pending; call facesr_wait until none is left");
     context->runtime->step();
     return kOk;
   });
@@ -46,8 +46,8 @@ facesr_status facesr_step_async(facesr_context* context) {
   // the frame cannot take.
   return guarded(fn, FACESR_ERROR_INVALID_ARGUMENT, [&] {
     if (context->runtime->pending() >= kMaxPending)
-      return fail(FACESR_ERROR_STATE, fn, std::to_string(kMaxPending) +
-                                              " frames are already pending; call facesr_wait first");
+      return fail(FACESR_ERROR_STATE, fn,
+                  std::to_string(kMaxPending) + " frames are already pending; call facesr_wait first");
     context->runtime->step_async();
     return kOk;
   });

@@ -30,36 +30,62 @@ namespace fs = std::filesystem;
 std::string message() { return facesr_last_error_message(); }
 
 // The call fails with `code` and leaves a message naming the function.
-#define EXPECT_STATUS(code, call)                                            \
-  do {                                                                       \
-    const facesr_status s_ = (call);                                         \
-    EXPECT_EQ(s_, code) << #call << ": " << facesr_status_name(s_) << ": " << message(); \
-    if ((code) != FACESR_OK) EXPECT_NE(message().find("facesr_"), std::string::npos) << #call; \
-  } while (0)
-#define ASSERT_OK(call)                                                                        \
+#define EXPECT_STATUS(code, call)                                                              \
   do {                                                                                         \
     const facesr_status s_ = (call);                                                           \
+    EXPECT_EQ(s_, code) << #call << ": " << facesr_status_name(s_) << ": " << message();       \
+    if ((code) != FACESR_OK) EXPECT_NE(message().find("facesr_"), std::string::npos) << #call; \
+  } while (0)
+#define ASSERT_OK(call)                                                                       \
+  do {                                                                                        \
+    const facesr_status s_ = (call);                                                          \
     ASSERT_EQ(s_, FACESR_OK) << #call << ": " << facesr_status_name(s_) << ": " << message(); \
   } while (0)
 
 // Files shared by every test: the coarse procedural rig, a small network
-// with random weights for it, and broken variants. Made once per process.
+// with random weights for it, and broken variants. ctest runs each test in a
+// process of its own, so they are made once per build of this binary (about
+// 5 s) into a folder beside it named for the binary's time stamp.
 struct Files {
   fs::path dir;
   std::string rig, model, other_rig_model, corrupt_model, truncated_rig;
 
   Files() {
-    using namespace facesr;
-    dir = fs::temp_directory_path() / ("facesr_capi_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
+    dir = cache_dir();
     rig = (dir / "p.rig").string();
     model = (dir / "p.fsm").string();
     other_rig_model = (dir / "other.fsm").string();
     corrupt_model = (dir / "corrupt.fsm").string();
     truncated_rig = (dir / "truncated.rig").string();
-    const Rig& r = fixtures::procedural_rig();
-    save_rig(r, rig);
+    if (fs::exists(dir / "complete")) return;
+    // Made under a private name and renamed into place, so that concurrent
+    // test processes never see a half-written set.
+    const fs::path tmp = dir.string() + ".tmp" + std::to_string(::getpid());
+    fs::remove_all(tmp);
+    fs::create_directories(tmp);
+    make(tmp);
+    std::ofstream(tmp / "complete").put('\n');
+    std::error_code ec;
+    fs::rename(tmp, dir, ec);
+    if (ec) fs::remove_all(tmp, ec);  // another process was first
+    for (const auto& e : fs::directory_iterator(dir.parent_path(), ec))
+      if (e.path() != dir && e.path().filename().string().rfind("capi_test_files_", 0) == 0 &&
+          e.path().string().find(".tmp") == std::string::npos)
+        fs::remove_all(e.path(), ec);  // sets of earlier builds
+  }
 
+  static fs::path cache_dir() {
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) return fs::temp_directory_path() / ("facesr_capi_" + std::to_string(::getpid()));
+    const auto stamp = uint64_t(fs::last_write_time(exe, ec).time_since_epoch().count());
+    return exe.parent_path() / ("capi_test_files_" + std::to_string(stamp));
+  }
+
+  static void make(const fs::path& d) {
+    using namespace facesr;
+    const Rig& r = fixtures::procedural_rig();
+    save_rig(r, (d / "p.rig").string());
     SrModel m;
     m.arch.pe_dim = 8;
     m.arch.encoder_dims = {8, 8};
@@ -76,26 +102,22 @@ struct Files {
     torch::manual_seed(11);
     SrNetwork net(m.arch, m.geometry);
     export_parameters(*net, m);
-    save_sr_model(model, m);
+    save_sr_model((d / "p.fsm").string(), m);
     m.rig_checksum ^= 0x5a5a;  // "trained on another rig"
-    save_sr_model(other_rig_model, m);
+    save_sr_model((d / "other.fsm").string(), m);
 
-    std::vector<char> bytes = read(model);
+    std::vector<char> bytes = read(d / "p.fsm");
     bytes[bytes.size() / 2] ^= 0x10;
-    write(corrupt_model, bytes);
-    bytes = read(rig);
+    write(d / "corrupt.fsm", bytes);
+    bytes = read(d / "p.rig");
     bytes.resize(bytes.size() * 2 / 3);
-    write(truncated_rig, bytes);
+    write(d / "truncated.rig", bytes);
   }
-  ~Files() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-  static std::vector<char> read(const std::string& p) {
+  static std::vector<char> read(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     return std::vector<char>(std::istreambuf_iterator<char>(in), {});
   }
-  static void write(const std::string& p, const std::vector<char>& b) {
+  static void write(const fs::path& p, const std::vector<char>& b) {
     std::ofstream(p, std::ios::binary).write(b.data(), std::streamsize(b.size()));
   }
 };
@@ -174,17 +196,10 @@ double max_diff(const std::vector<float>& a, const std::vector<float>& b) {
 TEST(CapiBasics, VersionsAndStatusNames) {
   EXPECT_EQ(facesr_abi_version(), uint32_t(FACESR_ABI_VERSION));
   EXPECT_STREQ(facesr_version_string(), "facesr 0.1.0");
-  const char* names[] = {"FACESR_OK",
-                         "FACESR_ERROR_NULL_ARGUMENT",
-                         "FACESR_ERROR_INVALID_ARGUMENT",
-                         "FACESR_ERROR_BUFFER_SIZE",
-                         "FACESR_ERROR_FILE",
-                         "FACESR_ERROR_MISMATCH",
-                         "FACESR_ERROR_DEVICE",
-                         "FACESR_ERROR_NOT_FOUND",
-                         "FACESR_ERROR_STATE",
-                         "FACESR_ERROR_SIMULATION",
-                         "FACESR_ERROR_INTERNAL"};
+  const char* names[] = {
+      "FACESR_OK",          "FACESR_ERROR_NULL_ARGUMENT", "FACESR_ERROR_INVALID_ARGUMENT", "FACESR_ERROR_BUFFER_SIZE",
+      "FACESR_ERROR_FILE",  "FACESR_ERROR_MISMATCH",      "FACESR_ERROR_DEVICE",           "FACESR_ERROR_NOT_FOUND",
+      "FACESR_ERROR_STATE", "FACESR_ERROR_SIMULATION",    "FACESR_ERROR_INTERNAL"};
   for (int s = 0; s <= FACESR_ERROR_INTERNAL; ++s) EXPECT_STREQ(facesr_status_name(s), names[s]);
   EXPECT_STREQ(facesr_status_name(11), "unknown");
   EXPECT_STREQ(facesr_status_name(-3), "unknown");
@@ -517,7 +532,8 @@ TEST_F(Capi, AsyncSteppingGivesTheSyncSurfaces) {
   EXPECT_EQ(st.frame, kFrames - 1);
   EXPECT_GT(st.total_ms, 0);
   for (int f = 0; f < kFrames; ++f)
-    EXPECT_EQ(got[size_t(f)], want[size_t(f)]) << "frame " << f << ": max diff " << max_diff(got[size_t(f)], want[size_t(f)]);
+    EXPECT_EQ(got[size_t(f)], want[size_t(f)])
+        << "frame " << f << ": max diff " << max_diff(got[size_t(f)], want[size_t(f)]);
   // Destroying with frames in flight waits for them.
   ASSERT_OK(facesr_step_async(async));
   ASSERT_OK(facesr_step_async(async));
@@ -725,8 +741,7 @@ TEST_F(Capi, BlendshapeNamesAndIndicesRoundTrip) {
   EXPECT_STREQ(exact, "jawOpen");
   EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_rig_blendshape_name(rig_, jaw, small, -1, &len));
   EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_rig_blendshape_name(rig_, -1, small, 4, &len));
-  EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT,
-                facesr_rig_blendshape_name(rig_, info_.num_blendshapes, small, 4, &len));
+  EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_rig_blendshape_name(rig_, info_.num_blendshapes, small, 4, &len));
   int32_t i = 123;
   EXPECT_STATUS(FACESR_ERROR_NOT_FOUND, facesr_rig_blendshape_index(rig_, "jawopen", &i));
   EXPECT_STATUS(FACESR_ERROR_NOT_FOUND, facesr_rig_blendshape_index(rig_, "", &i));

@@ -108,9 +108,12 @@ static void write_json_string(FILE* o, const char* s) {
   fputc('"', o);
   for (; *s; ++s) {
     const unsigned char c = (unsigned char)*s;
-    if (c == '"' || c == '\\') fprintf(o, "\\%c", c);
-    else if (c < 0x20) fprintf(o, "\\u%04x", c);
-    else fputc(c, o);
+    if (c == '"' || c == '\\')
+      fprintf(o, "\\%c", c);
+    else if (c < 0x20)
+      fprintf(o, "\\u%04x", c);
+    else
+      fputc(c, o);
   }
   fputc('"', o);
 }
@@ -122,16 +125,18 @@ static void write_json(FILE* o, const gltf_animation* a, const layout* l) {
   int v, f;
   const double s = a->metres_per_unit;
 
-  fprintf(o, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"facesr_play_c\"},\"scene\":0,"
-             "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"name\":");
+  fprintf(o,
+          "{\"asset\":{\"version\":\"2.0\",\"generator\":\"facesr_play_c\"},\"scene\":0,"
+          "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"name\":");
   write_json_string(o, a->name ? a->name : "face");
   fprintf(o, ",\"mesh\":0,\"scale\":[%.9g,%.9g,%.9g]}],", s, s, s);
 
   /* Accessors: 0 indices, 1 rest position, 2 rest normal, then per frame a
      position and a normal offset, then the animation's times and weights.
      Accessor i reads buffer view i. */
-  fprintf(o, "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":1,\"NORMAL\":2},\"indices\":0,\"mode\":4,"
-             "\"targets\":[");
+  fprintf(o,
+          "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":1,\"NORMAL\":2},\"indices\":0,\"mode\":4,"
+          "\"targets\":[");
   for (f = 0; f < F; ++f) fprintf(o, "%s{\"POSITION\":%d,\"NORMAL\":%d}", f ? "," : "", 3 + 2 * f, 4 + 2 * f);
   fprintf(o, "]}],\"weights\":[");
   for (f = 0; f < F; ++f) fprintf(o, "%s0", f ? "," : "");
@@ -139,22 +144,26 @@ static void write_json(FILE* o, const gltf_animation* a, const layout* l) {
   for (f = 0; f < F; ++f) fprintf(o, "%s\"frame %d\"", f ? "," : "", f);
   fprintf(o, "]}}],");
 
-  fprintf(o, "\"accessors\":[{\"bufferView\":0,\"componentType\":%d,\"count\":%d,\"type\":\"SCALAR\"}",
-          GL_UNSIGNED_INT, 3 * l->T);
+  fprintf(o, "\"accessors\":[{\"bufferView\":0,\"componentType\":%d,\"count\":%d,\"type\":\"SCALAR\"}", GL_UNSIGNED_INT,
+          3 * l->T);
   write_vec3_accessor(o, 1, l->V, a->rest_positions, NULL, 0, 1, 0);
   write_vec3_accessor(o, 2, l->V, a->rest_normals, NULL, 0, 0, 0);
   for (f = 0; f < F; ++f) {
     write_vec3_accessor(o, 3 + 2 * f, l->V, a->positions, a->rest_positions, f, 1, 0);
     write_vec3_accessor(o, 4 + 2 * f, l->V, a->normals, a->rest_normals, f, 0, 0);
   }
-  fprintf(o, ",{\"bufferView\":%d,\"componentType\":%d,\"count\":%d,\"type\":\"SCALAR\",\"min\":[0],"
-             "\"max\":[%.9g]}", 3 + 2 * F, GL_FLOAT, F, (double)(float)((F - 1) / a->fps));
+  fprintf(o,
+          ",{\"bufferView\":%d,\"componentType\":%d,\"count\":%d,\"type\":\"SCALAR\",\"min\":[0],"
+          "\"max\":[%.9g]}",
+          3 + 2 * F, GL_FLOAT, F, (double)(float)((F - 1) / a->fps));
   fprintf(o, ",{\"bufferView\":%d,\"componentType\":%d,\"count\":%d,\"type\":\"SCALAR\"}],", 4 + 2 * F, GL_FLOAT,
           F * F);
 
-  fprintf(o, "\"animations\":[{\"name\":\"performance\",\"samplers\":[{\"input\":%d,\"output\":%d,"
-             "\"interpolation\":\"LINEAR\"}],\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,\"path\":"
-             "\"weights\"}}]}],", 3 + 2 * F, 4 + 2 * F);
+  fprintf(o,
+          "\"animations\":[{\"name\":\"performance\",\"samplers\":[{\"input\":%d,\"output\":%d,"
+          "\"interpolation\":\"LINEAR\"}],\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,\"path\":"
+          "\"weights\"}}]}],",
+          3 + 2 * F, 4 + 2 * F);
 
   fprintf(o, "\"bufferViews\":[");
   for (v = 0; v < n_views; ++v) {

@@ -68,10 +68,14 @@ static int hex4(parser* ps, unsigned* out) {
   for (i = 0; i < 4; ++i) {
     const char c = *ps->p++;
     v <<= 4;
-    if (c >= '0' && c <= '9') v |= (unsigned)(c - '0');
-    else if (c >= 'a' && c <= 'f') v |= (unsigned)(c - 'a' + 10);
-    else if (c >= 'A' && c <= 'F') v |= (unsigned)(c - 'A' + 10);
-    else return 0;
+    if (c >= '0' && c <= '9')
+      v |= (unsigned)(c - '0');
+    else if (c >= 'a' && c <= 'f')
+      v |= (unsigned)(c - 'a' + 10);
+    else if (c >= 'A' && c <= 'F')
+      v |= (unsigned)(c - 'A' + 10);
+    else
+      return 0;
   }
   *out = v;
   return 1;
@@ -115,12 +119,26 @@ static char* parse_string(parser* ps) {
     }
     c = *ps->p++;
     switch (c) {
-      case '"': case '\\': case '/': if (!bytes_push(&b, c)) goto oom; break;
-      case 'b': if (!bytes_push(&b, '\b')) goto oom; break;
-      case 'f': if (!bytes_push(&b, '\f')) goto oom; break;
-      case 'n': if (!bytes_push(&b, '\n')) goto oom; break;
-      case 'r': if (!bytes_push(&b, '\r')) goto oom; break;
-      case 't': if (!bytes_push(&b, '\t')) goto oom; break;
+      case '"':
+      case '\\':
+      case '/':
+        if (!bytes_push(&b, c)) goto oom;
+        break;
+      case 'b':
+        if (!bytes_push(&b, '\b')) goto oom;
+        break;
+      case 'f':
+        if (!bytes_push(&b, '\f')) goto oom;
+        break;
+      case 'n':
+        if (!bytes_push(&b, '\n')) goto oom;
+        break;
+      case 'r':
+        if (!bytes_push(&b, '\r')) goto oom;
+        break;
+      case 't':
+        if (!bytes_push(&b, '\t')) goto oom;
+        break;
       case 'u': {
         unsigned cp, low;
         if (!hex4(ps, &cp)) {
@@ -264,15 +282,30 @@ static int parse_value(parser* ps, json_value* v, int depth) {
     return 0;
   }
   switch (*ps->p) {
-    case '{': ++ps->p; return parse_container(ps, v, depth, '}');
-    case '[': ++ps->p; return parse_container(ps, v, depth, ']');
+    case '{':
+      ++ps->p;
+      return parse_container(ps, v, depth, '}');
+    case '[':
+      ++ps->p;
+      return parse_container(ps, v, depth, ']');
     case '"':
       ++ps->p;
       v->type = JSON_STRING;
       return (v->string = parse_string(ps)) != NULL;
-    case 't': v->type = JSON_BOOL; v->boolean = 1; if (literal(ps, "true")) return 1; break;
-    case 'f': v->type = JSON_BOOL; v->boolean = 0; if (literal(ps, "false")) return 1; break;
-    case 'n': v->type = JSON_NULL; if (literal(ps, "null")) return 1; break;
+    case 't':
+      v->type = JSON_BOOL;
+      v->boolean = 1;
+      if (literal(ps, "true")) return 1;
+      break;
+    case 'f':
+      v->type = JSON_BOOL;
+      v->boolean = 0;
+      if (literal(ps, "false")) return 1;
+      break;
+    case 'n':
+      v->type = JSON_NULL;
+      if (literal(ps, "null")) return 1;
+      break;
     default:
       v->type = JSON_NUMBER;
       if (parse_number(ps, &v->number)) return 1;

@@ -11,12 +11,12 @@ typedef enum json_type { JSON_NULL, JSON_BOOL, JSON_NUMBER, JSON_STRING, JSON_AR
 typedef struct json_value json_value;
 struct json_value {
   json_type type;
-  int boolean;        /* JSON_BOOL */
-  double number;      /* JSON_NUMBER */
-  char* string;       /* JSON_STRING: UTF-8, NUL-terminated (an embedded \u0000 ends it early) */
-  size_t count;       /* JSON_ARRAY, JSON_OBJECT: number of elements or members */
-  json_value* items;  /* JSON_ARRAY, JSON_OBJECT: the values */
-  char** keys;        /* JSON_OBJECT: the member names, parallel to items */
+  int boolean;       /* JSON_BOOL */
+  double number;     /* JSON_NUMBER */
+  char* string;      /* JSON_STRING: UTF-8, NUL-terminated (an embedded \u0000 ends it early) */
+  size_t count;      /* JSON_ARRAY, JSON_OBJECT: number of elements or members */
+  json_value* items; /* JSON_ARRAY, JSON_OBJECT: the values */
+  char** keys;       /* JSON_OBJECT: the member names, parallel to items */
 };
 
 /* Parses `length` bytes of text (a UTF-8 byte order mark is skipped). NULL on

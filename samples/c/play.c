@@ -124,14 +124,15 @@ static facesr_status create_context(const facesr_rig* rig, const facesr_model* m
 static facesr_status set_frame_weights(facesr_context* ctx, const performance* perf, int f) {
   int i;
   for (i = 0; i < perf->num_names; ++i) {
-    const facesr_status s = facesr_set_weight_by_name(ctx, perf->names[i], perf->weights[(size_t)f * (size_t)perf->num_names + (size_t)i]);
+    const facesr_status s =
+        facesr_set_weight_by_name(ctx, perf->names[i], perf->weights[(size_t)f * (size_t)perf->num_names + (size_t)i]);
     if (s != FACESR_OK) return s;
   }
   return FACESR_OK;
 }
 
-static facesr_status read_frame(facesr_context* ctx, int64_t frame, int frames, int64_t n, float* positions, float* normals,
-                                double* sim_ms, double* sr_ms) {
+static facesr_status read_frame(facesr_context* ctx, int64_t frame, int frames, int64_t n, float* positions,
+                                float* normals, double* sim_ms, double* sr_ms) {
   facesr_frame_stats st;
   facesr_status s;
   st.struct_size = sizeof st;
@@ -159,7 +160,8 @@ static int play(facesr_context* ctx, const performance* perf, int frames, int as
   for (f = 0; f < frames; ++f) {
     if (failed(set_frame_weights(ctx, perf, f), "set weights")) return -1;
     if (!async) {
-      if (failed(facesr_step(ctx), "step") || failed(read_frame(ctx, f, frames, n, positions, normals, &sim_ms, &sr_ms), "read"))
+      if (failed(facesr_step(ctx), "step") ||
+          failed(read_frame(ctx, f, frames, n, positions, normals, &sim_ms, &sr_ms), "read"))
         return -1;
       continue;
     }
@@ -227,8 +229,10 @@ int main(int argc, char** argv) {
   }
   if (check_names(rig, &perf, o.performance) != 0) goto done;
   if (perf.has_jaw)
-    fprintf(stderr, "facesr_play_c: %s has explicit jaw transforms; they are not played (the jaw follows the "
-                    "jaw blendshapes)\n", o.performance);
+    fprintf(stderr,
+            "facesr_play_c: %s has explicit jaw transforms; they are not played (the jaw follows the "
+            "jaw blendshapes)\n",
+            o.performance);
   frames = o.max_frames > 0 && o.max_frames < perf.frames ? o.max_frames : perf.frames;
   if (failed(create_context(rig, model, &o, &ctx), "create context")) goto done;
 
