@@ -25,7 +25,8 @@
  *   caller sets to sizeof(the struct) as it was compiled. The library reads
  *   and writes only the fields that fit, so callers built against an older,
  *   smaller struct keep working. Use the facesr_default_* functions to fill
- *   definitions.
+ *   definitions. A struct_size below 4 (information structs) or below the
+ *   struct's version-1 size (definitions) is FACESR_ERROR_INVALID_ARGUMENT.
  * - Lengths are centimetres, stiffnesses kPa·cm (force per cm), times
  *   milliseconds. Positions are in the rig's rest frame.
  */
@@ -96,7 +97,8 @@ FACESR_API facesr_status facesr_rig_load(const char* path, facesr_rig** out_rig)
 FACESR_API void facesr_rig_free(facesr_rig* rig);
 FACESR_API facesr_status facesr_rig_get_info(const facesr_rig* rig, facesr_rig_info* info);
 /* Blendshape name at index into buf (NUL-terminated, truncated to buf_size - 1 bytes);
-   *out_length (if not NULL) receives the full length without the NUL. */
+   *out_length (if not NULL) receives the full length without the NUL. With
+   buf_size 0, buf may be NULL and only the length is returned. */
 FACESR_API facesr_status facesr_rig_blendshape_name(const facesr_rig* rig, int32_t index, char* buf,
                                                     int32_t buf_size, int32_t* out_length);
 /* Index of a blendshape by exact name, e.g. "jawOpen". */
@@ -188,6 +190,8 @@ typedef struct facesr_sphere_def {
   float stiffness;      /* kPa·cm, > 0 */
 } facesr_sphere_def;
 
+/* Spring: vertex -1 (must be set), target (0, 0, 0), stiffness 100.
+   Sphere: centre (0, 0, 0), radius 1 cm, stiffness 200. */
 FACESR_API facesr_spring_def facesr_default_spring_def(void);
 FACESR_API facesr_sphere_def facesr_default_sphere_def(void);
 
