@@ -56,6 +56,10 @@ facesr_status facesr_rig_get_info(const facesr_rig* rig, facesr_rig_info* info) 
   FACESR_PUT(info, num_lr_nodes, r.lr.mesh.X.rows());
   FACESR_PUT(info, num_muscles, r.muscles.size());
   FACESR_PUT(info, checksum, rig->loaded->checksum);
+  for (int c = 0; c < 3; ++c) {
+    put_field(info, offsetof(facesr_rig_info, jaw_pivot) + c * sizeof(float), float(r.jaw.pivot[c]));
+    put_field(info, offsetof(facesr_rig_info, jaw_axis) + c * sizeof(float), float(r.jaw.axis[c]));
+  }
   return kOk;
 }
 

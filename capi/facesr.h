@@ -89,6 +89,8 @@ typedef struct facesr_rig_info {
   int32_t num_lr_nodes;          /* N: nodes of the LR simulation lattice */
   int32_t num_muscles;
   uint64_t checksum;             /* identifies the rig; a model records the one it was trained on */
+  float jaw_pivot[3];            /* a point on the jaw hinge axis (cm): explicit jaw rotations turn about it */
+  float jaw_axis[3];             /* unit hinge axis; a positive angle opens the mouth */
 } facesr_rig_info;
 
 /* Loads and validates a rig file (from `facesr rig build`). */

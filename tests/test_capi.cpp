@@ -748,6 +748,15 @@ TEST_F(Capi, BlendshapeNamesAndIndicesRoundTrip) {
   EXPECT_EQ(i, 123);
 }
 
+TEST_F(Capi, RigInfoGivesTheJawHinge) {
+  const facesr::Rig r = facesr::load_rig(files().rig);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_FLOAT_EQ(info_.jaw_pivot[c], float(r.jaw.pivot[c]));
+    EXPECT_FLOAT_EQ(info_.jaw_axis[c], float(r.jaw.axis[c]));
+  }
+  EXPECT_EQ(info_.checksum, facesr::rig_checksum(r));
+}
+
 TEST_F(Capi, SurfaceNormalsAndGeometry) {
   facesr_context* c = context();
   ASSERT_NE(c, nullptr);

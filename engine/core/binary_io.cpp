@@ -1,11 +1,14 @@
 #include "core/binary_io.h"
 
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
 namespace facesr {
 
 std::vector<uint8_t> read_file_bytes(const std::string& path) {
+  std::error_code ec;
+  require(!std::filesystem::is_directory(path, ec), "cannot read '" + path + "': it is a folder, not a file");
   std::ifstream in(path, std::ios::binary);
   require(in.good(), "cannot open '" + path + "': no such file or not readable");
   in.seekg(0, std::ios::end);
