@@ -1,5 +1,8 @@
 #include "train/interpolate.h"
 
+#include <ATen/Dispatch.h>
+#include <ATen/Parallel.h>
+
 namespace facesr {
 
 namespace {
