@@ -11,6 +11,7 @@
 #include "cli/commands.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "collide/mouth_collider.h"
 #include "dataset/dataset_manifest.h"
 #include "perf/perf_controls.h"
 #include "perf/performance.h"
@@ -147,7 +148,7 @@ void add_bench_runtime(CLI::App* bench) {
   struct Args {
     RuntimeArgs rt;
     std::string dataset, markdown;
-    int frames = 60;
+    int frames = 60, hr_frames = 0, hr_skip = 30;
     bool json = false, quiet = false;
   };
   static Args a;
@@ -156,6 +157,9 @@ void add_bench_runtime(CLI::App* bench) {
   a.rt.add(sub);
   sub->add_option("--dataset", a.dataset, "Dataset whose HR step times give hr_step_ms (from its manifest)");
   sub->add_option("--frames", a.frames, "Timed frames per mode (default 60)");
+  sub->add_option("--hr-frames", a.hr_frames,
+                  "Time this many HR reference frames (CPU, with collisions) instead of reading a dataset");
+  sub->add_option("--hr-skip", a.hr_skip, "Untimed HR frames simulated first, from the rest pose (default 30)");
   sub->add_option("--markdown", a.markdown, "Write the results into this Markdown file (e.g. BENCHMARKS.md)");
   sub->add_flag("--json", a.json,
                 "Print JSON: lr_step_ms, sr_ms, end_to_end_ms, end_to_end_fps, pipelined_fps, hr_step_ms, "
@@ -185,6 +189,23 @@ void add_bench_runtime(CLI::App* bench) {
       require(n > 0, a.dataset + ": the manifest has no HR step times");
       o.hr_step_ms = 1e3 * s / n;
       o.hr_source = "mean of " + std::to_string(n) + " HR frames in " + a.dataset + " (CPU, with collisions)";
+    }
+    if (a.hr_frames > 0) {
+      const SimModel hr_model = make_sim_model(*rig, Resolution::High);
+      auto collider = std::make_shared<MouthCollider>(*rig, hr_model);
+      auto hr = make_cpu_simulator(hr_model, SolverOptions{}, collider, true);
+      Controls c;
+      double ms = 0;
+      Progress hp("bench HR reference", a.hr_skip + a.hr_frames, !a.quiet);
+      for (int f = 0; f < a.hr_skip + a.hr_frames; ++f) {
+        frame_controls(perf, f % perf.frames(), rig->jaw, c);
+        const StepStats st = hr->step(c);
+        if (f >= a.hr_skip) ms += st.ms;
+        hp.update(f + 1);
+      }
+      o.hr_step_ms = ms / a.hr_frames;
+      o.hr_source = "fresh run of " + std::to_string(a.hr_frames) + " HR frames (frames " + std::to_string(a.hr_skip) +
+                    "+ of the performance; CPU, with collisions, accurate solver)";
     }
     nlohmann::json r = bench_runtime(rig, model, w, o);
     r["rig"] = rig->name;
