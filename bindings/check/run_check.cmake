@@ -104,6 +104,15 @@ expect_failure("C# field size" "C#: facesr_frame_stats.frame .*size 4" CSHARP ${
 doctor(cs_conv.txt ${OUT}/csharp.txt "function facesr_step ptr i32 Cdecl facesr" "function facesr_step ptr i32 StdCall facesr")
 expect_failure("C# calling convention" "facesr_step uses CallingConvention.StdCall" CSHARP ${OUT}/cs_conv.txt)
 
+# A C# struct and a C# DllImport missing altogether.
+file(READ ${OUT}/csharp.txt text)
+string(REGEX REPLACE "[^\n]*facesr_model_info[^\n]*\n" "" no_struct "${text}")
+file(WRITE ${OUT}/cs_no_struct.txt "${no_struct}")
+expect_failure("C# missing struct" "C#: no binding of struct facesr_model_info" CSHARP ${OUT}/cs_no_struct.txt)
+string(REGEX REPLACE "function facesr_wait [^\n]*\n" "" no_wait "${text}")
+file(WRITE ${OUT}/cs_no_wait.txt "${no_wait}")
+expect_failure("C# missing function" "C#: no binding of facesr_wait" CSHARP ${OUT}/cs_no_wait.txt)
+
 # A Rust struct missing a field, and one of another size.
 doctor(rust_field.txt ${OUT}/rust.txt "field facesr_sphere_def radius offset 16 size 4\n" "")
 expect_failure("Rust missing field" "Rust: facesr_sphere_def.radius has no binding" RUST ${OUT}/rust_field.txt)
