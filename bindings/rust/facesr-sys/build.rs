@@ -19,7 +19,8 @@ fn main() {
     };
     // An absolute path, so that rpaths made from it work from any folder.
     let dir = dir.canonicalize().unwrap_or(dir);
-    let found = ["libfacesr.so", "libfacesr.dylib", "facesr.lib", "facesr.dll.lib"].iter().any(|f| dir.join(f).exists());
+    let found =
+        ["libfacesr.so", "libfacesr.dylib", "facesr.lib", "facesr.dll.lib"].iter().any(|f| dir.join(f).exists());
     if !found {
         println!(
             "cargo:warning=no libfacesr in {} (build it with CMake, or set FACESR_LIB_DIR); linking will fail",

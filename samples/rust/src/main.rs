@@ -139,7 +139,13 @@ fn show(c: &Context, frame: i64, xyz: &mut [f32], totals: &mut Totals, out: &mut
 
 /// The game loop. Async keeps one frame in flight: tick f submits frame f and
 /// shows frame f - 1, so simulation and super-resolution overlap.
-fn play(c: &mut Context, perf: &Performance, frames: usize, pipelined: bool, out: &mut FrameWriter) -> Result<(), String> {
+fn play(
+    c: &mut Context,
+    perf: &Performance,
+    frames: usize,
+    pipelined: bool,
+    out: &mut FrameWriter,
+) -> Result<(), String> {
     let mut xyz = vec![0.0f32; c.position_len()];
     let mut totals = Totals::default();
     let start = Instant::now();

@@ -104,7 +104,7 @@ fn build(root: &Json) -> Result<Performance, String> {
                 row[slot] = v as f32; // a repeated name: the last one wins
             }
         }
-        if k > 0 && !(t > times[k - 1]) {
+        if k > 0 && t <= times[k - 1] {
             return Err(format!("keyframe {k}: time {t} is not after keyframe {}'s time {}", k - 1, times[k - 1]));
         }
         if key.get("jaw").is_some() {
@@ -116,7 +116,7 @@ fn build(root: &Json) -> Result<Performance, String> {
 
     let nk = times.len();
     let span = (times[nk - 1] - times[0]) * fps;
-    if !(span < MAX_FRAMES) {
+    if span >= MAX_FRAMES {
         return Err(format!("the keyframes span more than {MAX_FRAMES} frames"));
     }
     let frames = (span + 1e-6).floor() as usize + 1;

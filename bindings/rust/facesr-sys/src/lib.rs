@@ -139,8 +139,11 @@ extern "C" {
         buf_size: i32,
         out_length: *mut i32,
     ) -> facesr_status;
-    pub fn facesr_rig_blendshape_index(rig: *const facesr_rig, name: *const c_char, out_index: *mut i32)
-        -> facesr_status;
+    pub fn facesr_rig_blendshape_index(
+        rig: *const facesr_rig,
+        name: *const c_char,
+        out_index: *mut i32,
+    ) -> facesr_status;
     pub fn facesr_rig_get_triangles(rig: *const facesr_rig, indices: *mut i32, count: i64) -> facesr_status;
     pub fn facesr_rig_get_rest_positions(rig: *const facesr_rig, xyz: *mut f32, count: i64) -> facesr_status;
 

@@ -320,8 +320,7 @@ impl Context {
     }
 
     pub fn frame_stats(&self) -> Result<FrameStats> {
-        let mut stats =
-            FrameStats { struct_size: std::mem::size_of::<FrameStats>() as u32, ..Default::default() };
+        let mut stats = FrameStats { struct_size: std::mem::size_of::<FrameStats>() as u32, ..Default::default() };
         check(unsafe { sys::facesr_get_frame_stats(self.as_ptr(), &mut stats) })?;
         Ok(stats)
     }

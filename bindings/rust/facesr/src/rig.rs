@@ -240,8 +240,10 @@ impl Model {
         check(unsafe { sys::facesr_model_load(c_path.as_ptr(), &mut raw) })?;
         let raw = NonNull::new(raw)
             .ok_or_else(|| Error::local(Status::Internal, "facesr_model_load returned OK and no model".to_string()))?;
-        let mut model =
-            Model { raw, info: ModelInfo { rig_checksum: 0, num_lr_nodes: 0, num_surface_vertices: 0, num_parameters: 0 } };
+        let mut model = Model {
+            raw,
+            info: ModelInfo { rig_checksum: 0, num_lr_nodes: 0, num_surface_vertices: 0, num_parameters: 0 },
+        };
         let mut info = sys::facesr_model_info {
             struct_size: std::mem::size_of::<sys::facesr_model_info>() as u32,
             ..Default::default()

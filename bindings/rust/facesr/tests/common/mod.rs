@@ -38,7 +38,10 @@ pub fn other_rig_path() -> PathBuf {
 pub fn rig() -> Arc<Rig> {
     let p = rig_path();
     Arc::new(Rig::load(&p).unwrap_or_else(|e| {
-        panic!("cannot load the test rig {} ({e}); run ctest's capi_test_data fixture or set FACESR_TEST_DATA", p.display())
+        panic!(
+            "cannot load the test rig {} ({e}); run ctest's capi_test_data fixture or set FACESR_TEST_DATA",
+            p.display()
+        )
     }))
 }
 
