@@ -4,6 +4,7 @@
  *
  *   facesr_play_c --rig R.rig --model M.fsm --performance P.json --out anim.gltf
  *                 [--frames N] [--async] [--inference auto|opencl|cpu] [--device NAME]
+ *                 [--dump-positions frames.bin]
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,9 +14,11 @@
 #include "facesr.h"
 #include "gltf_writer.h"
 #include "performance.h"
+#include "positions_dump.h"
 
 typedef struct options {
   const char *rig, *model, *performance, *out, *device, *inference;
+  const char* dump; /* --dump-positions: raw float32 of every frame, or NULL */
   int max_frames; /* -1: the whole performance */
   int async;
 } options;
@@ -24,10 +27,13 @@ static void usage(FILE* f) {
   fprintf(f,
           "usage: facesr_play_c --rig R.rig --model M.fsm --performance P.json --out anim.gltf\n"
           "                     [--frames N] [--async] [--inference auto|opencl|cpu] [--device NAME]\n"
+          "                     [--dump-positions frames.bin]\n"
           "  --frames N     play at most the first N frames\n"
           "  --async        pipelined stepping (step_async + wait, one frame of latency)\n"
           "  --inference    auto (default): OpenCL, else the CPU reference; or force one\n"
-          "  --device NAME  OpenCL device (substring of device or platform name; default: first CPU)\n");
+          "  --device NAME  OpenCL device (substring of device or platform name; default: first CPU)\n"
+          "  --dump-positions FILE  also write every frame's positions as raw little-endian float32\n"
+          "                 (frames x vertices x 3, cm), as the C# and Rust samples' --out .bin\n");
 }
 
 static int parse_args(int argc, char** argv, options* o) {
@@ -56,6 +62,8 @@ static int parse_args(int argc, char** argv, options* o) {
       value = &o->device;
     } else if (strcmp(a, "--inference") == 0) {
       value = &o->inference;
+    } else if (strcmp(a, "--dump-positions") == 0) {
+      value = &o->dump;
     } else if (strcmp(a, "--frames") == 0) {
       char* end;
       long n;
@@ -271,6 +279,13 @@ int main(int argc, char** argv) {
     goto done;
   }
   printf("wrote %s\n", o.out);
+  if (o.dump) {
+    if (positions_dump_write(o.dump, positions, (size_t)frames * (size_t)n, err, sizeof err) != 0) {
+      fprintf(stderr, "facesr_play_c: %s\n", err);
+      goto done;
+    }
+    printf("wrote %s\n", o.dump);
+  }
   rc = 0;
 done:
   free(tris);
