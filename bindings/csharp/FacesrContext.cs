@@ -303,11 +303,10 @@ namespace Facesr
         // stay until they are disposed too.
         public void Dispose() { handle.Dispose(); }
 
-        // Serializes facesr_context_create within the process: creating the
-        // first contexts on several threads at once crashes inside the OpenCL
-        // ICD loader / PoCL (device enumeration is not thread-safe before its
-        // first use), even with CPU inference, since creation always
-        // enumerates devices. Everything else stays concurrent.
+        // Serializes facesr_context_create within the process: OpenCL drivers'
+        // first queries are not always thread-safe (PoCL's device enumeration
+        // was not; the library now serialises that itself). A cheap guard for
+        // the rest of context creation; everything else stays concurrent.
         static readonly object CreateLock = new object();
 
         static readonly uint FrameStatsSize = (uint)Marshal.SizeOf(typeof(FrameStats));

@@ -1,5 +1,7 @@
 #include "compute/cl_device.h"
 
+#include <mutex>
+
 #include <CL/cl_ext.h>
 
 #include <algorithm>
@@ -137,7 +139,9 @@ std::string describe(const DeviceInfo& d) {
          std::to_string(d.global_mem_bytes >> 20) + " MiB)";
 }
 
-std::vector<DeviceInfo> list_devices() {
+namespace {
+
+std::vector<DeviceInfo> enumerate_devices() {
   struct Named {
     std::string name;
     cl_platform_id id;
@@ -162,6 +166,20 @@ std::vector<DeviceInfo> list_devices() {
     }
   }
   return devices;
+}
+
+}  // namespace
+
+std::vector<DeviceInfo> list_devices() {
+  // Enumerated once per process, under a lock: PoCL's first platform query
+  // is not thread-safe (concurrent first calls crashed or reported no
+  // platform), and the device list does not change while a process runs. An
+  // empty result is not kept, so a later call may still find a driver.
+  static std::mutex mu;
+  static std::vector<DeviceInfo> cache;
+  std::lock_guard<std::mutex> lock(mu);
+  if (cache.empty()) cache = enumerate_devices();
+  return cache;
 }
 
 DeviceSelector DeviceSelector::parse(const std::string& spec) {

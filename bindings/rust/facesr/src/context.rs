@@ -89,13 +89,11 @@ pub struct SpringId(pub i32);
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct SphereId(pub i32);
 
-/// Serializes `facesr_context_create` within the process. Creating the first
-/// contexts on several threads at once crashes inside the OpenCL ICD loader
-/// / PoCL (device enumeration is not thread-safe before its first use; seen
-/// as a SIGSEGV in strlen under clGetDeviceInfo, or as a spurious "no OpenCL
-/// platform found" that then sticks), even with CPU inference, because
-/// creation always enumerates devices. Safe Rust must not crash, so the
-/// bindings create one context at a time; everything else stays concurrent.
+/// Serializes `facesr_context_create` within the process. OpenCL drivers'
+/// first queries are not always thread-safe (PoCL's device enumeration was
+/// not: concurrent first calls crashed; the library now enumerates once under
+/// its own lock). Safe Rust must not crash, so the bindings keep creating one
+/// context at a time as a guard; everything else stays concurrent.
 static CREATE_LOCK: Mutex<()> = Mutex::new(());
 
 /// Timings and solver effort of the latest readable frame.
