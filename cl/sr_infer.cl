@@ -315,3 +315,15 @@ __kernel void upsample_features(const uint M, const uint K, const uint H, __glob
   for (uint q = 0; q < K; ++q) s += w[(size_t)j * K + q] * r[(size_t)idx[(size_t)j * K + q] * H + c];
   pre[id] = sin(omega0 * s);
 }
+
+// The embedded skip connection: out[j] += Σ_k w[j, k] · disp[nodes[j, k]]
+// (the LR-embedded displacement of HR vertex j).
+__kernel void add_embedded(const uint M, __global const int* nodes, __global const float* w,
+                           __global const float* disp, __global float* out) {
+  const uint id = get_global_id(0);
+  if (id >= 3 * M) return;
+  const uint j = id / 3, c = id % 3;
+  float e = 0.0f;
+  for (uint k = 0; k < 4; ++k) e += w[4 * j + k] * disp[3 * nodes[4 * j + k] + c];
+  out[id] += e;
+}

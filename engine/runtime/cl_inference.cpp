@@ -54,7 +54,7 @@ class ClInference final : public SrInference {
     require(a.graph_k <= 16, "OpenCL inference: graph_k " + std::to_string(a.graph_k) + " is above the kernels' 16");
     prog_ = ctx_.build_program({"sr_infer.cl"}, "-cl-std=CL1.2");
     for (const char* k : {"sr_input", "dense_rows", "dense_tiled", "edge_max", "pool_columns", "pooled_bias", "row_sqnorm", "feature_knn",
-                          "feature_knn_pruned", "copy_columns",
+                          "feature_knn_pruned", "copy_columns", "add_embedded",
                           "upsample_features"})
       kernels_.emplace(k, prog_.kernel(k));
     const cl_mem_flags ro = CL_MEM_READ_ONLY;
@@ -62,6 +62,10 @@ class ClInference final : public SrInference {
     up_w_ = Buffer<float>(ctx_, plan.up_weight, ro);
     up_idx_ = Buffer<cl_int>(ctx_, plan.up_index, ro);
     graph_ = Buffer<cl_int>(ctx_, m_->geometry.lr_graph, ro);
+    if (a.embedded_skip) {
+      embed_nodes_ = Buffer<cl_int>(ctx_, m_->geometry.embed_nodes, ro);
+      embed_w_ = Buffer<float>(ctx_, m_->geometry.embed_weights, ro);
+    }
 
     C_ = uint32_t(a.encoded_dim());
     uint32_t in = uint32_t(a.input_dim()), off = 0, Dmax = 1;
@@ -199,6 +203,7 @@ class ClInference final : public SrInference {
       dense(M_, L.out, L.in, 0, *in, L.in, 0, *in, L.in, 0, L.W, L.b, *out, L.out, 0, last ? kNone : kSine, w0);
       std::swap(in, out);
     }
+    if (a.embedded_skip) k("add_embedded").args(M_, embed_nodes_, embed_w_, disp_, *in).run_1d(3 * size_t(M_), 64);
     in->download(hr_disp, 3 * size_t(M_));
     stage("recon SIREN (HR vertices) + read-back");
   }
@@ -303,7 +308,8 @@ class ClInference final : public SrInference {
   std::vector<Block> blocks_;
   std::vector<Layer> recon_;
   Buffer<float> pe_, up_w_, disp_, enc_, self_, other_, y_, pooled_, pbias_, sq_, zero_, r0_, ha_, hb_;
-  Buffer<cl_int> up_idx_, graph_, nbr_, order_, rank_;
+  Buffer<cl_int> up_idx_, graph_, nbr_, order_, rank_, embed_nodes_;
+  Buffer<float> embed_w_;
   Buffer<float> proj_, compact_;
   std::vector<float> host_h_;
   std::vector<double> u_;

@@ -111,6 +111,16 @@ class CpuInference final : public SrInference {
     }
     for (int64_t j = 0; j < M; ++j)
       for (int c = 0; c < 3; ++c) hr_disp[3 * j + c] = float(x(j, c) * a.output_scale);
+    if (a.embedded_skip) {
+      const auto& nodes = m_->geometry.embed_nodes;
+      const auto& w = m_->geometry.embed_weights;
+      for (int64_t j = 0; j < M; ++j)
+        for (int c = 0; c < 3; ++c) {
+          float e = 0;
+          for (int k = 0; k < 4; ++k) e += w[size_t(4 * j + k)] * lr_disp[3 * nodes[size_t(4 * j + k)] + c];
+          hr_disp[3 * j + c] += e;
+        }
+    }
   }
 
  private:

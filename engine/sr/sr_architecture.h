@@ -28,6 +28,10 @@ struct SrArchitecture {
   // Euclidean-nearest LR nodes.
   bool feature_encoding = true;
   bool coordinate_upsampling = true;
+  // Not in the paper: add the LR-embedded displacement (the "embedded"
+  // baseline) to the output, so the network learns the correction to it
+  // (a residual connection). Off reproduces the paper.
+  bool embedded_skip = false;
   std::vector<int> weight_hidden{64, 64};        // SIREN f_θ: 7 → ... → 1
   std::vector<int> recon_hidden{128, 128, 128};  // SIREN reconstruction: D → ... → 3
   double omega0 = 30;        // SIREN first-layer frequency (Sitzmann et al. 2020)

@@ -75,6 +75,14 @@ SrGeometry build_sr_geometry(const Rig& rig, const SrGeometryOptions& opt) {
   g.hr_rest = to_float(S);
   g.hr_rest_lr_frame = to_float(S_lr);
   g.hr_tris.assign(rig.surface_tris.data(), rig.surface_tris.data() + rig.surface_tris.size());
+  // A rig without an LR embedding of its surface (only synthetic test rigs)
+  // leaves these empty; the embedded skip then refuses the geometry.
+  if (rig.lr.surface.tet.size() == size_t(M) && rig.lr.surface.weights.size() == 4 * size_t(M)) {
+    g.embed_nodes.resize(4 * size_t(M));
+    g.embed_weights.assign(rig.lr.surface.weights.begin(), rig.lr.surface.weights.end());
+    for (int v = 0; v < M; ++v)
+      for (int k = 0; k < 4; ++k) g.embed_nodes[4 * size_t(v) + k] = rig.lr.mesh.T(rig.lr.surface.tet[size_t(v)], k);
+  }
 
   // §3.1: first EdgeConv graph, geodesic along the LR tet edges.
   {

@@ -52,6 +52,12 @@ struct SrGeometry {
   std::vector<float> hr_rest_lr_frame;  // M × 3, cm
   std::vector<int32_t> hr_tris;         // T × 3, the rig's surface triangles (RBF geodesics)
   std::vector<uint8_t> up_is_euclid;    // M × upsample_k: 1 where a slot is a Euclidean fill-in
+
+  // The face surface's barycentric embedding in the LR lattice (the
+  // "embedded" baseline, Σ_k w_jk Δx^L_n(j,k)), for the network's optional
+  // embedded skip connection.
+  std::vector<int32_t> embed_nodes;   // M × 4 LR nodes
+  std::vector<float> embed_weights;   // M × 4 barycentric weights
 };
 
 // Fill-ins: the HR surface may have several connected components. Where a

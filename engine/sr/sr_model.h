@@ -22,6 +22,9 @@
 //                   vector<i32> euclid_index (M×upsample_k)
 //                   vector<f32> euclid_dist (M×upsample_k)
 //                   vector<u8>  up_is_euclid (M×upsample_k)
+//                   vector<i32> embed_nodes (M×4), vector<f32> embed_weights (M×4)
+//                               (the LR embedding of the surface; required with
+//                               architecture.embedded_skip)
 //                   (for kind "vae" the neighbourhood vectors are empty)
 //                 u64 tensor count T, then T tensors, each:
 //                   string name, vector<i64> shape, vector<f32> values

@@ -66,6 +66,12 @@ void validate_sr_model(const SrModel& m, const std::string& ctx) {
     check_size(g.hr_rest_lr_frame, 3 * M, ctx, "geometry.hr_rest_lr_frame");
     check_finite(g.hr_rest_lr_frame, ctx, "geometry.hr_rest_lr_frame");
   }
+  if (m.arch.embedded_skip || !g.embed_nodes.empty()) {
+    check_size(g.embed_nodes, 4 * M, ctx, "geometry.embed_nodes");
+    check_size(g.embed_weights, 4 * M, ctx, "geometry.embed_weights");
+    check_indices(g.embed_nodes, 0, int(N), ctx, "geometry.embed_nodes");
+    check_finite(g.embed_weights, ctx, "geometry.embed_weights");
+  }
   require(g.hr_tris.size() % 3 == 0, ctx + ": geometry.hr_tris is not a list of triangles");
   check_indices(g.hr_tris, 0, int(M), ctx, "geometry.hr_tris");
   if (m.arch.kind == "sr") {
@@ -122,6 +128,8 @@ void save_sr_model(const std::string& path, const SrModel& m) {
   w.put_vector(g.euclid_index);
   w.put_vector(g.euclid_dist);
   w.put_vector(g.up_is_euclid);
+  w.put_vector(g.embed_nodes);
+  w.put_vector(g.embed_weights);
   w.put<uint64_t>(m.tensors.size());
   for (const SrTensor& t : m.tensors) {
     w.put_string(t.name);
@@ -183,6 +191,8 @@ SrModel load_sr_model(const std::string& path) {
   g.euclid_index = r.get_vector<int32_t>("geometry.euclid_index");
   g.euclid_dist = r.get_vector<float>("geometry.euclid_dist");
   g.up_is_euclid = r.get_vector<uint8_t>("geometry.up_is_euclid");
+  g.embed_nodes = r.get_vector<int32_t>("geometry.embed_nodes");
+  g.embed_weights = r.get_vector<float>("geometry.embed_weights");
   const auto count = r.get<uint64_t>("tensor count");
   require(count <= 4096, at + "implausible tensor count " + std::to_string(count));
   for (uint64_t i = 0; i < count; ++i) {

@@ -71,6 +71,19 @@ SrNetworkImpl::SrNetworkImpl(const SrArchitecture& arch, const SrGeometry& g)
     free_weights_ = register_parameter("free_weights", torch::zeros({M_, K_}));
   }
   recon_ = register_module("recon", Siren(arch.encoded_dim(), arch.recon_hidden, 3, arch.omega0));
+  if (arch.embedded_skip) {
+    require(g.embed_nodes.size() == size_t(4 * M_) && g.embed_weights.size() == size_t(4 * M_),
+            "SrNetwork: the embedded skip needs the geometry's LR embedding");
+    embed_nodes_ = long_tensor(g.embed_nodes, {M_ * 4});
+    embed_weights_ = register_buffer("embed_weights", float_tensor(g.embed_weights, {M_, 4}));
+  }
+}
+
+torch::Tensor SrNetworkImpl::embedded(const torch::Tensor& lr_disp) {
+  const int64_t B = lr_disp.size(0);
+  if (embed_nodes_.device() != lr_disp.device()) embed_nodes_ = embed_nodes_.to(lr_disp.device());
+  const auto g = lr_disp.index_select(1, embed_nodes_).view({B, M_, 4, 3});
+  return (g * embed_weights_.view({1, M_, 4, 1})).sum(2);
 }
 
 torch::Tensor SrNetworkImpl::encode(const torch::Tensor& lr_disp, std::vector<torch::Tensor>* features) {
@@ -112,6 +125,7 @@ SrNetworkImpl::Output SrNetworkImpl::forward(const torch::Tensor& lr_disp) {
   // vertex's weights sum to one (softmax), and M > N with C_enc > width.
   const auto pre = interpolate(upsample_weights(), recon_->first_linear(z));
   out.hr_disp = recon_->from_first(pre) * arch_.output_scale;
+  if (arch_.embedded_skip) out.hr_disp = out.hr_disp + embedded(lr_disp);
   return out;
 }
 

@@ -25,6 +25,8 @@ class SrNetworkImpl : public torch::nn::Module {
   // lr_disp: B × N × 3 LR node displacements from the LR rest pose, cm.
   Output forward(const torch::Tensor& lr_disp);
 
+  // The LR-embedded surface displacement Σ_k w_jk Δx^L (B × M × 3, cm).
+  torch::Tensor embedded(const torch::Tensor& lr_disp);
   // The encoded LR feature z^L (B × N × encoded_dim) alone.
   torch::Tensor encode(const torch::Tensor& lr_disp, std::vector<torch::Tensor>* features = nullptr);
   // Normalised interpolation weights w_ij, M × K, and the neighbour indices
@@ -43,7 +45,7 @@ class SrNetworkImpl : public torch::nn::Module {
   // Index tensors are plain members, not buffers: Module::to(dtype) would
   // convert registered buffers to floating point. They follow the input's
   // device in encode().
-  torch::Tensor pe_, graph_, up_index_, up_input_;
+  torch::Tensor pe_, graph_, up_index_, up_input_, embed_nodes_, embed_weights_;
   std::vector<EdgeConvBlock> blocks_;
   Siren weight_net_{nullptr}, recon_{nullptr};
   torch::Tensor free_weights_;

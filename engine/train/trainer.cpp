@@ -100,7 +100,7 @@ double mean_error_cm(Net& net, const FrameSet& s, const torch::Device& dev, int 
 json config_fingerprint(const SrArchitecture& a, const TrainOptions& o) {
   return {{"architecture", architecture_to_json(a)}, {"batch_size", o.batch_size}, {"learning_rate", o.learning_rate},
           {"alpha", o.alpha}, {"beta_start", o.beta_start}, {"beta_end", o.beta_end}, {"vae_beta", o.vae_beta},
-          {"epochs", o.epochs}, {"validation_every", o.validation_every}, {"seed", o.seed},
+          {"validation_every", o.validation_every}, {"seed", o.seed},
           {"dataset", fs::weakly_canonical(o.dataset_dir).string()}};
 }
 

@@ -28,7 +28,9 @@ struct TrainOptions {
   int validation_every = 10;    // hold out every n-th training frame (0: none)
   int patience = 0;             // > 0: stop after this many epochs without a better validation error
   double time_limit_s = 0;      // > 0: checkpoint and stop after this much wall time (resume later)
-  bool resume = true;           // continue from a matching checkpoint
+  // Continue from a matching checkpoint (same data and settings; --epochs may
+  // be raised to extend a run, and β's ramp then spans the new total).
+  bool resume = true;
   uint64_t seed = 1;
   std::string device = "auto";  // cpu | cuda | auto
   bool progress = true;
