@@ -35,7 +35,7 @@ fi
 # a model made for another rig is refused by its checksum.
 $F rig build --source procedural --preset coarse -o out/procedural_coarse.rig
 $F play --rig out/procedural_coarse.rig --model samples/assets/procedural_coarse.fsm \
-  --builtin anger --async -o out/procedural_play.gltf --json
+  --builtin anger --async -o out/procedural_play.gltf
 if [[ -f out/ict.rig && -f samples/assets/ict.fsm ]]; then
-  $F play --rig out/ict.rig --model samples/assets/ict.fsm --builtin anger --async -o out/ict_play.gltf --json
+  $F play --rig out/ict.rig --model samples/assets/ict.fsm --builtin anger --async -o out/ict_play.gltf
 fi

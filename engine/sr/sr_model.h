@@ -1,5 +1,5 @@
 #pragma once
-// A trained super-resolution model (".fsm" file, version 1): the
+// A trained super-resolution model (".fsm" file, version 2): the
 // architecture, the rig it belongs to (by checksum, so a model cannot be
 // paired with another rig), the rest-pose neighbourhoods it was trained with,
 // and every parameter tensor. Read by evaluation and by the runtime without
@@ -8,8 +8,8 @@
 //
 //   offset  size  field
 //   0       8     magic "FACESRSM"
-//   8       4     u32 format version (= 1)
-//   12            string header: JSON {"format": "facesr-sr-model", "version": 1,
+//   8       4     u32 format version (= 2; version 1 had no surface embedding)
+//   12            string header: JSON {"format": "facesr-sr-model", "version": 2,
 //                   "units": "cm", "rig_name", "rig_checksum", "num_lr" (N),
 //                   "num_hr" (M), "architecture": {...}, "training": {...}}
 //                 geometry (SrGeometry, k values from the architecture):

@@ -18,7 +18,8 @@ using nlohmann::json;
 namespace {
 
 const char kMagic[8] = {'F', 'A', 'C', 'E', 'S', 'R', 'S', 'M'};
-constexpr uint32_t kVersion = 1;
+// Version 2 added the surface embedding (embed_nodes, embed_weights).
+constexpr uint32_t kVersion = 2;
 
 template <class T>
 void check_size(const std::vector<T>& v, size_t n, const std::string& ctx, const char* what) {
