@@ -8,12 +8,13 @@
 
 namespace facesr::fixtures {
 
-std::shared_ptr<SrModel> random_model(bool fe, bool cu, uint64_t seed, bool skip) {
+std::shared_ptr<SrModel> random_model(bool fe, bool cu, uint64_t seed, bool skip, bool zero_rest) {
   const Rig& rig = procedural_rig();
   auto m = std::make_shared<SrModel>();
   m->arch.feature_encoding = fe;
   m->arch.coordinate_upsampling = cu;
   m->arch.embedded_skip = skip;
+  m->arch.zero_rest = zero_rest;
   m->arch.recon_hidden = {64, 64};
   m->rig_name = rig.name;
   m->rig_checksum = rig_checksum(rig);

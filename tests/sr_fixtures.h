@@ -11,7 +11,8 @@
 namespace facesr::fixtures {
 
 std::shared_ptr<SrModel> random_model(bool feature_encoding = true, bool coordinate_upsampling = true,
-                                      uint64_t seed = 1, bool embedded_skip = false);
+                                      uint64_t seed = 1, bool embedded_skip = false,
+                                      bool zero_rest = false);
 // F frames of smooth LR displacements of a plausible size (a few mm): F × N × 3.
 torch::Tensor lr_frames(const SrModel& m, int F);
 

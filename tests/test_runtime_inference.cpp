@@ -21,9 +21,9 @@ using fixtures::lr_frames;
 using fixtures::random_model;
 
 TEST(RuntimeInference, CpuReferenceMatchesLibTorch) {
-  for (int variant = 0; variant < 4; ++variant) {
-    const bool fe = variant != 1, cu = variant != 2, skip = variant == 3;
-    const auto m = random_model(fe, cu, 3 + variant, skip);
+  for (int variant = 0; variant < 5; ++variant) {
+    const bool fe = variant != 1, cu = variant != 2, skip = variant >= 3, zero_rest = variant == 4;
+    const auto m = random_model(fe, cu, 3 + variant, skip, zero_rest);
     const auto lr = lr_frames(*m, 3);
     const auto ref = TorchPredictor(*m).predict(lr);
     auto cpu = make_cpu_inference(m);
@@ -53,13 +53,37 @@ double worst_difference(SrInference& inf, const torch::Tensor& lr, const torch::
 }
 
 TEST(RuntimeInference, OpenClMatchesLibTorch) {
-  for (int variant = 0; variant < 4; ++variant) {
-    const bool fe = variant != 1, cu = variant != 2, skip = variant == 3;
-    const auto m = random_model(fe, cu, 11 + variant, skip);
+  for (int variant = 0; variant < 5; ++variant) {
+    const bool fe = variant != 1, cu = variant != 2, skip = variant >= 3, zero_rest = variant == 4;
+    const auto m = random_model(fe, cu, 11 + variant, skip, zero_rest);
     const auto lr = lr_frames(*m, 3);
     const auto ref = TorchPredictor(*m).predict(lr);
     auto cl = make_cl_inference(m);
     EXPECT_LT(worst_difference(*cl, lr, ref, m->num_hr), 1e-4) << "variant " << variant;
+  }
+}
+
+// With zero_rest the rest input gives exactly the rest surface in LibTorch,
+// the C++ reference and the OpenCL kernels; the same weights without it do not.
+TEST(RuntimeInference, ZeroRestMapsTheRestInputToTheRestSurface) {
+  for (bool zero_rest : {false, true}) {
+    const auto m = random_model(true, true, 21, true, zero_rest);
+    const auto rest = torch::zeros({1, m->num_lr, 3});
+    const double torch_max = TorchPredictor(*m).predict(rest).abs().max().item<double>();
+    std::vector<float> zero(size_t(3 * m->num_lr), 0.0f), out(size_t(3 * m->num_hr));
+    double cpu_max = 0, cl_max = 0;
+    make_cpu_inference(m)->infer(zero.data(), out.data());
+    for (float v : out) cpu_max = std::max(cpu_max, double(std::abs(v)));
+    make_cl_inference(m)->infer(zero.data(), out.data());
+    for (float v : out) cl_max = std::max(cl_max, double(std::abs(v)));
+    if (zero_rest) {
+      EXPECT_LT(torch_max, 1e-6);
+      EXPECT_LT(cpu_max, 1e-6);
+      EXPECT_LT(cl_max, 1e-6);
+    } else {
+      EXPECT_GT(torch_max, 1e-3) << "a random network is not zero at rest by itself";
+      EXPECT_GT(cl_max, 1e-3);
+    }
   }
 }
 

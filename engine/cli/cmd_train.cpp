@@ -18,7 +18,7 @@ void register_train(CLI::App& app) {
     std::string rig, dataset, out, checkpoints, kind = "sr", device = "auto";
     std::string encoder_dims = "64,128", weight_hidden = "64,64", recon_hidden = "128,128,128";
     int graph_k = 5, neighbours = 20, pe_dim = 32;
-    bool no_fe = false, no_cu = false, skip = false, restart = false, json = false, quiet = false;
+    bool no_fe = false, no_cu = false, skip = false, zero_rest = false, restart = false, json = false, quiet = false;
     TrainOptions o;
   };
   static Args a;
@@ -48,6 +48,8 @@ void register_train(CLI::App& app) {
                 "Ablation: no coordinate-based upsampling (learned weights over the Euclidean-nearest LR nodes)");
   sub->add_flag("--embedded-skip", a.skip,
                 "Not in the paper: learn the correction to the LR-embedded surface (a residual connection)");
+  sub->add_flag("--zero-rest", a.zero_rest,
+                "Not in the paper: subtract the output at the rest input, so that rest maps exactly to rest");
   sub->add_option("--neighbours", a.neighbours, "Interpolation neighbours per HR vertex (default 20)");
   sub->add_option("--graph-k", a.graph_k, "k of the EdgeConv k-NN graphs (default 5)");
   sub->add_option("--pe-dim", a.pe_dim, "Positional encoding size (default 32)");
@@ -65,6 +67,7 @@ void register_train(CLI::App& app) {
     arch.feature_encoding = !a.no_fe;
     arch.coordinate_upsampling = !a.no_cu;
     arch.embedded_skip = a.skip;
+    arch.zero_rest = a.zero_rest;
     require(a.neighbours >= 1 && a.neighbours <= 64, "--neighbours must be in [1, 64]");
     require(a.graph_k >= 1 && a.graph_k <= 64, "--graph-k must be in [1, 64]");
     require(a.pe_dim >= 0 && a.pe_dim % 2 == 0 && a.pe_dim <= 1024, "--pe-dim must be even, in [0, 1024]");

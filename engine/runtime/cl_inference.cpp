@@ -140,6 +140,13 @@ class ClInference final : public SrInference {
     // The column reduction halves its work-group: a power of two.
     pool_local_ = 1;
     while (pool_local_ * 2 <= std::min<size_t>(256, kernels_.at("pool_columns").max_work_group_size())) pool_local_ *= 2;
+    // The rest-pose output g(0), once at load (embedded(0) = 0, so the skip
+    // does not change it); every frame subtracts it on the host.
+    if (a.zero_rest) {
+      const std::vector<float> zero(3 * size_t(N_), 0.0f);
+      rest_out_.resize(3 * size_t(M_));
+      run_network(zero.data(), rest_out_.data());
+    }
   }
 
   std::string device() const override { return ctx_.device().device_name + " (OpenCL, float)"; }
@@ -147,6 +154,12 @@ class ClInference final : public SrInference {
   std::vector<std::pair<std::string, double>> last_profile() const override { return profile_; }
 
   void infer(const float* lr_disp, float* hr_disp) override {
+    run_network(lr_disp, hr_disp);
+    for (size_t i = 0; i < rest_out_.size(); ++i) hr_disp[i] -= rest_out_[i];
+  }
+
+ private:
+  void run_network(const float* lr_disp, float* hr_disp) {
     const SrArchitecture& a = m_->arch;
     profile_.clear();
     auto t0 = std::chrono::steady_clock::now();
@@ -208,7 +221,7 @@ class ClInference final : public SrInference {
     stage("recon SIREN (HR vertices) + read-back");
   }
 
- private:
+  std::vector<float> rest_out_;  // g(0) with zero_rest, else empty
   compute::Kernel& k(const char* name) { return kernels_.at(name); }
 
   // The per-frame order for feature_knn_pruned: the submodule input's

@@ -47,11 +47,23 @@ std::vector<int32_t> feature_knn(const RowMat& h, int k) {
 
 class CpuInference final : public SrInference {
  public:
-  explicit CpuInference(std::shared_ptr<const SrModel> m) : m_(std::move(m)), plan_(make_inference_plan(*m_)) {}
+  explicit CpuInference(std::shared_ptr<const SrModel> m) : m_(std::move(m)), plan_(make_inference_plan(*m_)) {
+    if (m_->arch.zero_rest) {
+      const std::vector<float> zero(3 * size_t(plan_.N), 0.0f);
+      rest_out_.resize(3 * size_t(plan_.M));
+      run_network(zero.data(), rest_out_.data());
+    }
+  }
 
   std::string device() const override { return "cpu-reference (Eigen, float)"; }
 
   void infer(const float* lr_disp, float* hr_disp) override {
+    run_network(lr_disp, hr_disp);
+    for (size_t i = 0; i < rest_out_.size(); ++i) hr_disp[i] -= rest_out_[i];
+  }
+
+ private:
+  void run_network(const float* lr_disp, float* hr_disp) {
     const SrArchitecture& a = m_->arch;
     const int64_t N = plan_.N, M = plan_.M, K = plan_.K, D0 = a.input_dim();
     const float slope = float(a.leaky_slope);
@@ -123,7 +135,7 @@ class CpuInference final : public SrInference {
     }
   }
 
- private:
+  std::vector<float> rest_out_;  // g(0) with zero_rest, else empty
   std::shared_ptr<const SrModel> m_;
   SrInferencePlan plan_;
 };

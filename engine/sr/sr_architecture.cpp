@@ -25,7 +25,7 @@ json architecture_to_json(const SrArchitecture& a) {
           {"upsample_k", a.upsample_k},
           {"feature_encoding", a.feature_encoding},
           {"coordinate_upsampling", a.coordinate_upsampling},
-          {"embedded_skip", a.embedded_skip},
+          {"embedded_skip", a.embedded_skip}, {"zero_rest", a.zero_rest},
           {"weight_hidden", a.weight_hidden},
           {"recon_hidden", a.recon_hidden},
           {"omega0", a.omega0},
@@ -65,6 +65,7 @@ SrArchitecture architecture_from_json(const json& j, const std::string& source) 
   a.feature_encoding = bool_field(j, "feature_encoding", at);
   a.coordinate_upsampling = bool_field(j, "coordinate_upsampling", at);
   a.embedded_skip = j.contains("embedded_skip") && bool_field(j, "embedded_skip", at);
+  a.zero_rest = j.contains("zero_rest") && bool_field(j, "zero_rest", at);
   a.weight_hidden = int_list_field(j, "weight_hidden", at, 1);
   a.recon_hidden = int_list_field(j, "recon_hidden", at, 1);
   require_nonempty(a.recon_hidden, at, "recon_hidden");

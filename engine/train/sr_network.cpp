@@ -118,6 +118,24 @@ torch::Tensor SrNetworkImpl::interpolate(const torch::Tensor& w, const torch::Te
 }
 
 SrNetworkImpl::Output SrNetworkImpl::forward(const torch::Tensor& lr_disp) {
+  if (arch_.zero_rest) {
+    // The rest input rides along as one more frame of the batch; its output
+    // is subtracted from every frame, and its features are left out of the
+    // feature-norm loss.
+    const int64_t B = lr_disp.size(0);
+    Output all = forward_network(torch::cat({lr_disp, torch::zeros({1, N_, 3}, lr_disp.options())}, 0));
+    Output out;
+    out.hr_disp = all.hr_disp.narrow(0, 0, B) - all.hr_disp.narrow(0, B, 1);
+    for (auto& f : all.features) out.features.push_back(f.narrow(0, 0, B));
+    if (arch_.embedded_skip) out.hr_disp = out.hr_disp + embedded(lr_disp);
+    return out;
+  }
+  Output out = forward_network(lr_disp);
+  if (arch_.embedded_skip) out.hr_disp = out.hr_disp + embedded(lr_disp);
+  return out;
+}
+
+SrNetworkImpl::Output SrNetworkImpl::forward_network(const torch::Tensor& lr_disp) {
   Output out;
   const auto z = encode(lr_disp, &out.features);
   // The reconstruction's first affine map is applied on the N LR nodes and
@@ -125,7 +143,6 @@ SrNetworkImpl::Output SrNetworkImpl::forward(const torch::Tensor& lr_disp) {
   // vertex's weights sum to one (softmax), and M > N with C_enc > width.
   const auto pre = interpolate(upsample_weights(), recon_->first_linear(z));
   out.hr_disp = recon_->from_first(pre) * arch_.output_scale;
-  if (arch_.embedded_skip) out.hr_disp = out.hr_disp + embedded(lr_disp);
   return out;
 }
 

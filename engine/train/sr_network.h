@@ -37,6 +37,8 @@ class SrNetworkImpl : public torch::nn::Module {
   const SrArchitecture& arch() const { return arch_; }
 
  private:
+  // The network without the embedded skip and the rest subtraction.
+  Output forward_network(const torch::Tensor& lr_disp);
   // Σ_k w_jk f_{idx_jk}: f is B × N × C, result B × M × C.
   torch::Tensor interpolate(const torch::Tensor& w, const torch::Tensor& f);
 

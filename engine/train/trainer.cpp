@@ -321,7 +321,14 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
       break;
     }
   }
-  progress.finish();
+  if (epoch < opt.epochs) {
+    if (opt.progress)
+      std::fprintf(stderr, "[train %s] stopped after epoch %d of %d (%s)\n", arch.kind.c_str(), epoch, opt.epochs,
+                   sum.stopped_early ? "early stop: no better validation error"
+                                     : "time limit; the same command resumes from the checkpoint");
+  } else {
+    progress.finish();
+  }
   sum.epochs_done = epoch;
   sum.finished = epoch >= opt.epochs || sum.stopped_early;
   sum.best_epoch = best_epoch;
