@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "runtime/sr_inference.h"
+#include "runtime/rest_subtracted.h"
 
 namespace facesr {
 
@@ -140,13 +141,6 @@ class ClInference final : public SrInference {
     // The column reduction halves its work-group: a power of two.
     pool_local_ = 1;
     while (pool_local_ * 2 <= std::min<size_t>(256, kernels_.at("pool_columns").max_work_group_size())) pool_local_ *= 2;
-    // The rest-pose output g(0), once at load (embedded(0) = 0, so the skip
-    // does not change it); every frame subtracts it on the host.
-    if (a.zero_rest) {
-      const std::vector<float> zero(3 * size_t(N_), 0.0f);
-      rest_out_.resize(3 * size_t(M_));
-      run_network(zero.data(), rest_out_.data());
-    }
   }
 
   std::string device() const override { return ctx_.device().device_name + " (OpenCL, float)"; }
@@ -154,12 +148,6 @@ class ClInference final : public SrInference {
   std::vector<std::pair<std::string, double>> last_profile() const override { return profile_; }
 
   void infer(const float* lr_disp, float* hr_disp) override {
-    run_network(lr_disp, hr_disp);
-    for (size_t i = 0; i < rest_out_.size(); ++i) hr_disp[i] -= rest_out_[i];
-  }
-
- private:
-  void run_network(const float* lr_disp, float* hr_disp) {
     const SrArchitecture& a = m_->arch;
     profile_.clear();
     auto t0 = std::chrono::steady_clock::now();
@@ -221,7 +209,7 @@ class ClInference final : public SrInference {
     stage("recon SIREN (HR vertices) + read-back");
   }
 
-  std::vector<float> rest_out_;  // g(0) with zero_rest, else empty
+ private:
   compute::Kernel& k(const char* name) { return kernels_.at(name); }
 
   // The per-frame order for feature_knn_pruned: the submodule input's
@@ -334,7 +322,8 @@ class ClInference final : public SrInference {
 
 std::unique_ptr<SrInference> make_cl_inference(std::shared_ptr<const SrModel> model, const ClInferenceOptions& opt) {
   require(model != nullptr, "inference: no model");
-  return std::make_unique<ClInference>(std::move(model), opt);
+  std::unique_ptr<SrInference> net = std::make_unique<ClInference>(model, opt);
+  return subtract_rest_output(std::move(net), *model);
 }
 
 }  // namespace facesr

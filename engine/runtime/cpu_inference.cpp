@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "runtime/sr_inference.h"
+#include "runtime/rest_subtracted.h"
 
 namespace facesr {
 
@@ -47,23 +48,11 @@ std::vector<int32_t> feature_knn(const RowMat& h, int k) {
 
 class CpuInference final : public SrInference {
  public:
-  explicit CpuInference(std::shared_ptr<const SrModel> m) : m_(std::move(m)), plan_(make_inference_plan(*m_)) {
-    if (m_->arch.zero_rest) {
-      const std::vector<float> zero(3 * size_t(plan_.N), 0.0f);
-      rest_out_.resize(3 * size_t(plan_.M));
-      run_network(zero.data(), rest_out_.data());
-    }
-  }
+  explicit CpuInference(std::shared_ptr<const SrModel> m) : m_(std::move(m)), plan_(make_inference_plan(*m_)) {}
 
   std::string device() const override { return "cpu-reference (Eigen, float)"; }
 
   void infer(const float* lr_disp, float* hr_disp) override {
-    run_network(lr_disp, hr_disp);
-    for (size_t i = 0; i < rest_out_.size(); ++i) hr_disp[i] -= rest_out_[i];
-  }
-
- private:
-  void run_network(const float* lr_disp, float* hr_disp) {
     const SrArchitecture& a = m_->arch;
     const int64_t N = plan_.N, M = plan_.M, K = plan_.K, D0 = a.input_dim();
     const float slope = float(a.leaky_slope);
@@ -135,7 +124,7 @@ class CpuInference final : public SrInference {
     }
   }
 
-  std::vector<float> rest_out_;  // g(0) with zero_rest, else empty
+ private:
   std::shared_ptr<const SrModel> m_;
   SrInferencePlan plan_;
 };
@@ -144,7 +133,8 @@ class CpuInference final : public SrInference {
 
 std::unique_ptr<SrInference> make_cpu_inference(std::shared_ptr<const SrModel> model) {
   require(model != nullptr, "inference: no model");
-  return std::make_unique<CpuInference>(std::move(model));
+  std::unique_ptr<SrInference> net = std::make_unique<CpuInference>(model);
+  return subtract_rest_output(std::move(net), *model);
 }
 
 }  // namespace facesr
