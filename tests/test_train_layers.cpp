@@ -8,6 +8,7 @@
 
 #include "sr/sr_architecture.h"
 #include "train/edge_conv.h"
+#include "train/lr_schedule.h"
 #include "train/sr_loss.h"
 #include "train/sr_network.h"
 #include "train/vae_network.h"
@@ -241,6 +242,16 @@ TEST(TrainLayers, LossTermsOnHandMadeCases) {
   EXPECT_DOUBLE_EQ(beta_schedule(0, 11, 1e-3, 20), 1e-3);
   EXPECT_NEAR(beta_schedule(10, 11, 1e-3, 20), 20, 1e-9);
   EXPECT_NEAR(beta_schedule(5, 11, 1e-3, 20), std::sqrt(1e-3 * 20), 1e-9);
+}
+
+TEST(TrainSchedule, CosineLearningRateRunsFromStartToFinalAndIsConstantWhenUnset) {
+  EXPECT_DOUBLE_EQ(learning_rate_schedule(0, 11, 1e-3, 1e-5), 1e-3);
+  EXPECT_DOUBLE_EQ(learning_rate_schedule(10, 11, 1e-3, 1e-5), 1e-5);
+  EXPECT_NEAR(learning_rate_schedule(5, 11, 1e-3, 1e-5), 0.5 * (1e-3 + 1e-5), 1e-15);
+  for (int e = 1; e < 11; ++e)
+    EXPECT_LT(learning_rate_schedule(e, 11, 1e-3, 1e-5), learning_rate_schedule(e - 1, 11, 1e-3, 1e-5));
+  EXPECT_DOUBLE_EQ(learning_rate_schedule(7, 11, 1e-3, 0), 1e-3);
+  EXPECT_DOUBLE_EQ(learning_rate_schedule(0, 1, 1e-3, 1e-5), 1e-3);
 }
 
 }  // namespace

@@ -116,6 +116,40 @@ TEST_F(TrainTiny, ResumedTrainingEqualsAnUnbrokenRun) {
   EXPECT_NE(e.find("other settings"), std::string::npos) << e;
 }
 
+TEST_F(TrainTiny, InitFromStartsAtTheSourceModelAndTheRateAnneals) {
+  const TrainSummary src = train_model(fixtures::procedural_rig(), arch(), options("src.fsm", 2));
+  // A vanishing rate keeps the source weights: the validation error is the
+  // one the source model was exported with.
+  TrainOptions o = options("init.fsm", 1);
+  o.init_from = path("src.fsm");
+  o.learning_rate = 1e-12;
+  const TrainSummary s = train_model(fixtures::procedural_rig(), arch(), o);
+  EXPECT_NEAR(s.best_validation_cm, src.best_validation_cm, 1e-6);
+  EXPECT_EQ(load_sr_model(path("init.fsm")).training["options"].value("init_from", ""),
+            fs::weakly_canonical(path("src.fsm")).string());
+
+  // Cosine annealing: the recorded per-epoch rates run from --lr to --lr-final.
+  TrainOptions a = options("anneal.fsm", 3);
+  a.init_from = path("src.fsm");
+  a.learning_rate_final = 1e-5;
+  train_model(fixtures::procedural_rig(), arch(), a);
+  const auto h = load_sr_model(path("anneal.fsm")).training["history"];
+  ASSERT_EQ(h.size(), 3u);
+  EXPECT_DOUBLE_EQ(h[0]["lr"].get<double>(), 1e-3);
+  EXPECT_NEAR(h[1]["lr"].get<double>(), 0.5 * (1e-3 + 1e-5), 1e-12);
+  EXPECT_DOUBLE_EQ(h[2]["lr"].get<double>(), 1e-5);
+
+  // Another architecture does not silently take the weights.
+  SrArchitecture wide = arch();
+  wide.recon_hidden = {16};
+  const std::string e = fixtures::error_of([&] { train_model(fixtures::procedural_rig(), wide, o); });
+  EXPECT_NE(e.find("does not fit this architecture"), std::string::npos) << e;
+  TrainOptions missing = options("x.fsm", 1);
+  missing.init_from = path("nope.fsm");
+  const std::string e2 = fixtures::error_of([&] { train_model(fixtures::procedural_rig(), arch(), missing); });
+  EXPECT_NE(e2.find("nope.fsm"), std::string::npos) << e2;
+}
+
 TEST_F(TrainTiny, VaeBaselineTrains) {
   SrArchitecture v;
   v.kind = "vae";

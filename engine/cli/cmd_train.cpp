@@ -30,6 +30,10 @@ void register_train(CLI::App& app) {
   sub->add_option("--epochs", a.o.epochs, "Epochs (default 2800, the paper's)");
   sub->add_option("--batch", a.o.batch_size, "Frames per batch (default 6, the paper's)");
   sub->add_option("--lr", a.o.learning_rate, "Adam learning rate (default 1e-4, the paper's)");
+  sub->add_option("--lr-final", a.o.learning_rate_final,
+                  "Not in the paper: cosine-anneal the learning rate to this by the last epoch (default: constant)");
+  sub->add_option("--init-from", a.o.init_from,
+                  "Start from this model file's weights (same rig and architecture) instead of random ones");
   sub->add_option("--alpha", a.o.alpha, "Face-normal loss weight (default 0.001)");
   sub->add_option("--beta-start", a.o.beta_start, "Feature-norm loss weight at the first epoch (default 0.001)");
   sub->add_option("--beta-end", a.o.beta_end, "Feature-norm loss weight at the last epoch (default 20)");

@@ -15,6 +15,7 @@
 #include "rig/rig_io.h"
 #include "sr/sr_geometry.h"
 #include "train/model_export.h"
+#include "train/lr_schedule.h"
 #include "train/sr_loss.h"
 #include "train/sr_network.h"
 #include "train/train_device.h"
@@ -98,10 +99,14 @@ double mean_error_cm(Net& net, const FrameSet& s, const torch::Device& dev, int 
 }
 
 json config_fingerprint(const SrArchitecture& a, const TrainOptions& o) {
-  return {{"architecture", architecture_to_json(a)}, {"batch_size", o.batch_size}, {"learning_rate", o.learning_rate},
-          {"alpha", o.alpha}, {"beta_start", o.beta_start}, {"beta_end", o.beta_end}, {"vae_beta", o.vae_beta},
-          {"validation_every", o.validation_every}, {"seed", o.seed},
-          {"dataset", fs::weakly_canonical(o.dataset_dir).string()}};
+  json j = {{"architecture", architecture_to_json(a)}, {"batch_size", o.batch_size}, {"learning_rate", o.learning_rate},
+            {"alpha", o.alpha}, {"beta_start", o.beta_start}, {"beta_end", o.beta_end}, {"vae_beta", o.vae_beta},
+            {"validation_every", o.validation_every}, {"seed", o.seed},
+            {"dataset", fs::weakly_canonical(o.dataset_dir).string()}};
+  // Only when set, so that checkpoints from before these options still resume.
+  if (o.learning_rate_final > 0) j["learning_rate_final"] = o.learning_rate_final;
+  if (!o.init_from.empty()) j["init_from"] = fs::weakly_canonical(o.init_from).string();
+  return j;
 }
 
 template <class T>
@@ -133,6 +138,8 @@ void validate(const TrainOptions& o) {
   require(o.epochs >= 1, "train: --epochs must be at least 1");
   require(o.batch_size >= 1, "train: --batch must be at least 1");
   require(o.learning_rate > 0 && std::isfinite(o.learning_rate), "train: --lr must be a positive number");
+  require(o.learning_rate_final >= 0 && std::isfinite(o.learning_rate_final),
+          "train: --lr-final must be a positive number (or 0: constant rate)");
   require(o.alpha >= 0 && o.beta_start >= 0 && o.beta_end >= 0 && o.vae_beta >= 0,
           "train: loss weights must be >= 0");
   require(o.checkpoint_every >= 1, "train: --checkpoint-every must be at least 1");
@@ -158,6 +165,16 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
   SrArchitecture arch = arch_in;
   arch.input_scale = rms(data.train.lr);
   arch.output_scale = rms(data.train.hr);
+  SrModel init;
+  if (!opt.init_from.empty()) {
+    init = load_sr_model(opt.init_from);
+    require_model_matches_rig(init, checksum, data.num_lr, data.num_hr, opt.init_from, "rig '" + rig.name + "'");
+    require(init.arch.kind == arch.kind, "train: --init-from " + opt.init_from + " is a '" + init.arch.kind +
+                                             "' model, not '" + arch.kind + "'");
+    // The weights were fitted to these scales; keeping them keeps the function.
+    arch.input_scale = init.arch.input_scale;
+    arch.output_scale = init.arch.output_scale;
+  }
   SrModel model;
   model.rig_name = rig.name;
   model.rig_checksum = checksum;
@@ -194,6 +211,14 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
     net.rest = torch::from_blob(r.data(), {rig.surface.rows(), 3}, torch::kFloat32).clone().to(dev);
     std::vector<int64_t> t(rig.surface_tris.data(), rig.surface_tris.data() + rig.surface_tris.size());
     net.tris = torch::from_blob(t.data(), {rig.surface_tris.rows(), 3}, torch::kLong).clone().to(dev);
+  }
+  if (!opt.init_from.empty()) {
+    try {
+      import_parameters(init, net.module());
+    } catch (const Error& e) {
+      throw Error("train: --init-from " + opt.init_from + " does not fit this architecture: " + e.what());
+    }
+    net.module().to(dev);
   }
   torch::optim::Adam optim(net.module().parameters(), torch::optim::AdamOptions(opt.learning_rate));
 
@@ -263,6 +288,8 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
     std::iota(order.begin(), order.end(), 0);
     std::shuffle(order.begin(), order.end(), rng);
     const double beta = beta_schedule(epoch, opt.epochs, opt.beta_start, opt.beta_end);
+    const double lr_now = learning_rate_schedule(epoch, opt.epochs, opt.learning_rate, opt.learning_rate_final);
+    for (auto& group : optim.param_groups()) static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr_now);
     double loss_sum = 0, l1_sum = 0;
     int batches = 0;
     for (int64_t b = 0; b < F; b += opt.batch_size) {
@@ -283,7 +310,7 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
       ++batches;
     }
     const double train_loss = loss_sum / batches, train_l1 = l1_sum / batches;
-    json rec = {{"epoch", epoch + 1}, {"loss", train_loss}, {"l1_cm", train_l1}, {"beta", beta}};
+    json rec = {{"epoch", epoch + 1}, {"loss", train_loss}, {"l1_cm", train_l1}, {"beta", beta}, {"lr", lr_now}};
     bool improved = false;
     if (data.validation.size() > 0) {
       const double v = mean_error_cm(net, data.validation, dev, opt.batch_size);

@@ -21,6 +21,10 @@ struct TrainOptions {
   int epochs = 2800;           // the paper trained 2,800 epochs
   int batch_size = 6;          // the paper's
   double learning_rate = 1e-4;  // the paper's (Adam)
+  double learning_rate_final = 0;  // > 0: cosine-anneal to this by the last epoch (train/lr_schedule.h)
+  // Start from this model file's weights (same rig and architecture; its
+  // input/output scales are kept) instead of a random initialisation.
+  std::string init_from;
   double alpha = 1e-3;          // face-normal loss weight (table 3)
   double beta_start = 1e-3, beta_end = 20;  // feature-norm weight ramp (table 3)
   double vae_beta = 0.01;       // KL weight of the β-VAE (A.4)
