@@ -23,61 +23,77 @@ __kernel void sr_input(const uint N, const uint pe_dim, const float inv_scale, _
 // side: k < K1 reads a1, k ≥ K1 reads a2 (K2 = 0 for one input); offsets are
 // in elements (column offsets within a wider feature matrix). act: 0 none,
 // 1 LeakyReLU(slope), 2 sin(omega0 · v) (a SIREN layer's activation, applied
-// where its output is made so the next layer reads it once). W is
-// out_dim × (K1 + K2), row-major. Two kernels compute the same thing:
-// dense_rows for CPU devices (one work-item per row; contiguous dot products
-// that PoCL vectorises, four outputs per pass over the row) and dense_tiled
-// for GPUs (TILE × TILE tiles staged in local memory).
+// where its output is made so the next layer reads it once). Two kernels
+// compute it: dense_simd for CPU devices and dense_tiled for GPUs (TILE ×
+// TILE tiles staged in local memory, W out_dim × (K1 + K2) row-major).
 #define ACTIVATE(v) (act == 1 ? ((v) < 0.0f ? slope * (v) : (v)) : act == 2 ? sin(omega0 * (v)) : (v))
 
-__kernel void dense_rows(const uint rows, const uint out_dim, const uint K1, const uint K2, __global const float* a1,
-                         const uint s1, const uint off1, __global const float* a2, const uint s2, const uint off2,
-                         __global const float* W, __global const float* bias, __global float* out,
-                         const uint out_stride, const uint out_off, const int act, const float omega0,
-                         const float slope) {
-  const uint r = get_global_id(0);
-  if (r >= rows) return;
-  const uint K = K1 + K2;
-  __global const float* x1 = a1 + off1 + (size_t)r * s1;
-  __global const float* x2 = a2 + off2 + (size_t)r * s2;
-  __global float* y = out + out_off + (size_t)r * out_stride;
-  uint o = 0;
-  for (; o + 4 <= out_dim; o += 4) {
-    __global const float* w0 = W + (size_t)o * K;
-    __global const float* w1 = w0 + K;
-    __global const float* w2 = w1 + K;
-    __global const float* w3 = w2 + K;
-    float t0 = 0.0f, t1 = 0.0f, t2 = 0.0f, t3 = 0.0f;
-    for (uint k = 0; k < K1; ++k) {
-      const float x = x1[k];
-      t0 += x * w0[k];
-      t1 += x * w1[k];
-      t2 += x * w2[k];
-      t3 += x * w3[k];
-    }
-    for (uint k = 0; k < K2; ++k) {
-      const float x = x2[k];
-      t0 += x * w0[K1 + k];
-      t1 += x * w1[K1 + k];
-      t2 += x * w2[K1 + k];
-      t3 += x * w3[K1 + k];
-    }
-    t0 += bias[o];
-    t1 += bias[o + 1];
-    t2 += bias[o + 2];
-    t3 += bias[o + 3];
-    y[o] = ACTIVATE(t0);
-    y[o + 1] = ACTIVATE(t1);
-    y[o + 2] = ACTIVATE(t2);
-    y[o + 3] = ACTIVATE(t3);
+// dense_simd: the CPU devices' dense layer. PoCL cannot vectorise a
+// per-work-item dot product (a float reduction it may not reorder) nor, with
+// a loop inside, across work-items (measured: a row-per-work-item kernel ran
+// at ~7 GFLOP/s on 2 cores, scalar code); so the SIMD is
+// explicit: one work-item computes DENSE_ROWS rows × 16 outputs as float16
+// accumulators, each step one 16-wide weight load shared by all its rows.
+// Wt is the weight transposed and zero-padded: K × P (P = out_dim rounded up
+// to 16), bias padded to P; padded outputs are never written.
+// The rows are unrolled by hand into named accumulators: PoCL neither
+// unrolls the loop nor keeps a private array in registers.
+#define DENSE_ROWS 8
+#define ROWS8(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7)
+
+float16 activate16(const float16 v, const int act, const float omega0, const float slope) {
+  if (act == 1) return select(v, slope * v, v < (float16)(0.0f));
+  if (act == 2) return sin(omega0 * v);
+  return v;
+}
+
+void store16(const float16 v, __global float* y, const uint n) {
+  if (n == 16) {
+    vstore16(v, 0, y);
+  } else {
+    float t[16];
+    vstore16(v, 0, t);
+    for (uint c = 0; c < n; ++c) y[c] = t[c];
   }
-  for (; o < out_dim; ++o) {
-    __global const float* w = W + (size_t)o * K;
-    float t = bias[o];
-    for (uint k = 0; k < K1; ++k) t += x1[k] * w[k];
-    for (uint k = 0; k < K2; ++k) t += x2[k] * w[K1 + k];
-    y[o] = ACTIVATE(t);
+}
+
+__kernel void dense_simd(const uint rows, const uint out_dim, const uint P, const uint K1, const uint K2,
+                         __global const float* a1, const uint s1, const uint off1, __global const float* a2,
+                         const uint s2, const uint off2, __global const float* Wt, __global const float* bias,
+                         __global float* out, const uint out_stride, const uint out_off, const int act,
+                         const float omega0, const float slope) {
+  const uint blocks = P / 16, id = get_global_id(0);
+  const uint row0 = (id / blocks) * DENSE_ROWS, o0 = (id % blocks) * 16;
+  if (row0 >= rows) return;
+  const float16 b = vload16(0, bias + o0);
+  // Rows past the end repeat the last one (read, never written).
+#define DECLARE(q)                                   \
+  const uint r##q = min(row0 + q, rows - 1);           \
+  __global const float* x##q = a1 + off1 + (size_t)r##q * s1; \
+  __global const float* z##q = a2 + off2 + (size_t)r##q * s2; \
+  float16 acc##q = b;
+  ROWS8(DECLARE)
+#undef DECLARE
+  __global const float* w = Wt + o0;
+  for (uint k = 0; k < K1; ++k) {
+    const float16 wk = vload16(0, w + (size_t)k * P);
+#define STEP(q) acc##q = fma((float16)(x##q[k]), wk, acc##q);
+    ROWS8(STEP)
+#undef STEP
   }
+  w += (size_t)K1 * P;
+  for (uint k = 0; k < K2; ++k) {
+    const float16 wk = vload16(0, w + (size_t)k * P);
+#define STEP(q) acc##q = fma((float16)(z##q[k]), wk, acc##q);
+    ROWS8(STEP)
+#undef STEP
+  }
+  out += out_off + o0;
+  const uint n = min(16u, out_dim - o0);
+#define STORE(q) \
+  if (row0 + q < rows) store16(activate16(acc##q, act, omega0, slope), out + (size_t)(row0 + q) * out_stride, n);
+  ROWS8(STORE)
+#undef STORE
 }
 
 __kernel void dense_tiled(const uint rows, const uint out_dim, const uint K1, const uint K2, __global const float* a1,
@@ -191,21 +207,12 @@ __kernel void row_sqnorm(const uint N, const uint D, __global const float* h, co
 // largest cost. k ≤ KNN_MAX_K.
 #define KNN_MAX_K 16
 
-// a·b over D floats with four independent float4 partial sums: the explicit
-// order lets the compiler use SIMD without fast-math reassociation (which
-// would also loosen the SIREN sines elsewhere in this program).
+// a·b over D floats, accumulated in index order with fma: the order (and
+// rounding) of feature_knn_simd's per-lane sums, so that every k-NN variant
+// sees bit-identical distances and picks the same neighbours.
 float dot_rows(__global const float* a, __global const float* b, const uint D) {
-  float4 s0 = (float4)(0.0f), s1 = (float4)(0.0f), s2 = (float4)(0.0f), s3 = (float4)(0.0f);
-  uint c = 0;
-  for (; c + 16 <= D; c += 16) {
-    s0 += vload4(0, a + c) * vload4(0, b + c);
-    s1 += vload4(0, a + c + 4) * vload4(0, b + c + 4);
-    s2 += vload4(0, a + c + 8) * vload4(0, b + c + 8);
-    s3 += vload4(0, a + c + 12) * vload4(0, b + c + 12);
-  }
-  const float4 s = (s0 + s1) + (s2 + s3);
-  float t = (s.x + s.y) + (s.z + s.w);
-  for (; c < D; ++c) t += a[c] * b[c];
+  float t = 0.0f;
+  for (uint c = 0; c < D; ++c) t = fma(a[c], b[c], t);
   return t;
 }
 
@@ -238,6 +245,85 @@ __kernel void feature_knn(const uint N, const uint D, const uint k, __global con
     }
   }
   for (uint t = 0; t < k; ++t) nbr[(size_t)i * k + t] = bi[t];
+}
+
+// feature_knn with explicit SIMD for CPU devices: one work-item takes
+// KNN_QUERIES queries and scans the candidates 16 at a time from the
+// transposed features hT (D × Np, Np = N rounded up to 16, zero-padded), so
+// each step is one 16-wide load shared by its queries. Same distances
+// formula, same order and ties (candidates in increasing index, strict <).
+#define KNN_QUERIES 8
+
+__kernel void feature_knn_simd(const uint N, const uint Np, const uint D, const uint k, __global const float* hT,
+                               __global const float* sq, __global int* nbr) {
+  const uint i0 = get_global_id(0) * KNN_QUERIES;
+  if (i0 >= N) return;
+  uint qi[KNN_QUERIES];
+  float sqi[KNN_QUERIES];
+  float bd[KNN_QUERIES][KNN_MAX_K];
+  int bi[KNN_QUERIES][KNN_MAX_K];
+  for (uint q = 0; q < KNN_QUERIES; ++q) {
+    qi[q] = min(i0 + q, N - 1);
+    sqi[q] = sq[qi[q]];
+    for (uint t = 0; t < k; ++t) {
+      bd[q][t] = INFINITY;
+      bi[q][t] = 0x7fffffff;
+    }
+  }
+#define QUERY_INDEX(n) const uint q##n = qi[n];
+  ROWS8(QUERY_INDEX)
+#undef QUERY_INDEX
+  const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  for (uint j0 = 0; j0 < Np; j0 += 16) {
+    // Named accumulators (see dense_simd: PoCL keeps no private array in registers).
+    float16 dot[KNN_QUERIES];
+#define ZERO(q) float16 d##q = (float16)(0.0f);
+    ROWS8(ZERO)
+#undef ZERO
+    for (uint c = 0; c < D; ++c) {
+      __global const float* row = hT + (size_t)c * Np;
+      const float16 hc = vload16(0, row + j0);
+#define STEP(n) d##n = fma((float16)(row[q##n]), hc, d##n);
+      ROWS8(STEP)
+#undef STEP
+    }
+#define KEEP(q) dot[q] = d##q;
+    ROWS8(KEEP)
+#undef KEEP
+    const int16 j = (int)j0 + lane;
+    const float16 sqj = vload16(0, sq + j0);
+    for (uint q = 0; q < KNN_QUERIES; ++q) {
+      float16 d = sqi[q] + sqj - 2.0f * dot[q];
+      d = select(d, (float16)(INFINITY), (j == (int)qi[q]) | (j >= (int)N));
+      if (!any(d < (float16)(bd[q][k - 1]))) continue;
+      float t16[16];
+      vstore16(d, 0, t16);
+      for (uint l = 0; l < 16; ++l) {
+        const float v = t16[l];
+        if (v < bd[q][k - 1]) {
+          int t = (int)k - 1;
+          while (t > 0 && v < bd[q][t - 1]) {
+            bd[q][t] = bd[q][t - 1];
+            bi[q][t] = bi[q][t - 1];
+            --t;
+          }
+          bd[q][t] = v;
+          bi[q][t] = (int)(j0 + l);
+        }
+      }
+    }
+  }
+  for (uint q = 0; q < KNN_QUERIES && i0 + q < N; ++q)
+    for (uint t = 0; t < k; ++t) nbr[(size_t)(i0 + q) * k + t] = bi[q][t];
+}
+
+// hT[c, i] = h[i, off + c] for i < N, 0 for N ≤ i < Np (for feature_knn_simd).
+__kernel void transpose_columns(const uint N, const uint Np, const uint D, __global const float* h, const uint s,
+                                const uint off, __global float* hT) {
+  const uint id = get_global_id(0);
+  if (id >= Np * D) return;
+  const uint c = id / Np, i = id % Np;
+  hT[id] = i < N ? h[(size_t)i * s + off + c] : 0.0f;
 }
 
 // The same neighbours as feature_knn, found without scanning every node.
@@ -314,6 +400,19 @@ __kernel void upsample_features(const uint M, const uint K, const uint H, __glob
   float s = 0.0f;
   for (uint q = 0; q < K; ++q) s += w[(size_t)j * K + q] * r[(size_t)idx[(size_t)j * K + q] * H + c];
   pre[id] = sin(omega0 * s);
+}
+
+// upsample_features for CPU devices: one work-item per HR vertex and 16
+// columns (r and pre with row stride P, a multiple of 16).
+__kernel void upsample_features_simd(const uint M, const uint K, const uint P, __global const float* w,
+                                     __global const int* idx, __global const float* r, const float omega0,
+                                     __global float* pre) {
+  const uint blocks = P / 16, id = get_global_id(0);
+  const uint j = id / blocks, c0 = (id % blocks) * 16;
+  if (j >= M) return;
+  float16 s = (float16)(0.0f);
+  for (uint q = 0; q < K; ++q) s = fma((float16)(w[(size_t)j * K + q]), vload16(0, r + (size_t)idx[(size_t)j * K + q] * P + c0), s);
+  vstore16(sin(omega0 * s), 0, pre + (size_t)j * P + c0);
 }
 
 // The embedded skip connection: out[j] += Σ_k w[j, k] · disp[nodes[j, k]]

@@ -87,20 +87,25 @@ TEST(RuntimeInference, ZeroRestMapsTheRestInputToTheRestSurface) {
   }
 }
 
-TEST(RuntimeInference, PrunedFeatureKnnGivesTheSameOutputAsTheFullScan) {
+TEST(RuntimeInference, EveryFeatureKnnVariantGivesTheSameOutputAsTheFullScan) {
   // Identical neighbours give bit-identical outputs; any missed neighbour
   // changes the EdgeConv maximum somewhere.
   const auto m = random_model(true, true, 17);
-  ClInferenceOptions full;
-  full.pruned_knn = false;
-  auto a = make_cl_inference(m), b = make_cl_inference(m, full);
+  auto with = [&](ClKnn knn) {
+    ClInferenceOptions o;
+    o.knn = knn;
+    return make_cl_inference(m, o);
+  };
+  auto full = with(ClKnn::Full), simd = with(ClKnn::Simd), pruned = with(ClKnn::Pruned);
   const auto lr = lr_frames(*m, 4);
   for (int64_t f = 0; f < lr.size(0); ++f) {
-    std::vector<float> oa(size_t(3 * m->num_hr)), ob(oa.size());
+    std::vector<float> of(size_t(3 * m->num_hr)), os(of.size()), op(of.size());
     const auto in = lr[f].contiguous();
-    a->infer(in.data_ptr<float>(), oa.data());
-    b->infer(in.data_ptr<float>(), ob.data());
-    EXPECT_EQ(oa, ob) << "frame " << f;
+    full->infer(in.data_ptr<float>(), of.data());
+    simd->infer(in.data_ptr<float>(), os.data());
+    pruned->infer(in.data_ptr<float>(), op.data());
+    EXPECT_EQ(of, os) << "frame " << f;
+    EXPECT_EQ(of, op) << "frame " << f;
   }
 }
 

@@ -33,14 +33,21 @@ std::vector<float> columns(const SrTensor& t, int64_t c0, int64_t n) {
   return out;
 }
 
-struct Block {  // one EdgeConv submodule
-  uint32_t in = 0, D = 0, in_off = 0, out_off = 0;
-  Buffer<float> W_self, b_self, W_other, W_fc, b_fc, W_node;
+uint32_t round16(uint32_t n) { return (n + 15) / 16 * 16; }
+
+// One dense layer's weights in the layout its kernel reads: row-major
+// out × K for dense_tiled (GPUs); transposed K × P, P = out rounded up to 16,
+// zero-padded, for dense_simd (CPU devices), whose outputs then have row
+// stride P where a next kernel reads them in 16-wide loads.
+struct Dense {
+  uint32_t in = 0, out = 0, P = 0;
+  Buffer<float> W, b;
 };
 
-struct Layer {  // one reconstruction layer
-  uint32_t in = 0, out = 0;
-  Buffer<float> W, b;
+struct Block {  // one EdgeConv submodule
+  uint32_t in = 0, D = 0, in_off = 0, out_off = 0;
+  Dense self, other, node;  // node: per-node columns of the shared FC (its bias is per frame)
+  Buffer<float> W_fc, b_fc;
 };
 
 class ClInference final : public SrInference {
@@ -54,9 +61,10 @@ class ClInference final : public SrInference {
     K_ = uint32_t(plan.K);
     require(a.graph_k <= 16, "OpenCL inference: graph_k " + std::to_string(a.graph_k) + " is above the kernels' 16");
     prog_ = ctx_.build_program({"sr_infer.cl"}, "-cl-std=CL1.2");
-    for (const char* k : {"sr_input", "dense_rows", "dense_tiled", "edge_max", "pool_columns", "pooled_bias", "row_sqnorm", "feature_knn",
-                          "feature_knn_pruned", "copy_columns", "add_embedded",
-                          "upsample_features"})
+    simd_ = ctx_.device().type != compute::DeviceType::Gpu;
+    for (const char* k : {"sr_input", "dense_simd", "dense_tiled", "edge_max", "pool_columns", "pooled_bias",
+                          "row_sqnorm", "feature_knn", "feature_knn_simd", "feature_knn_pruned", "transpose_columns",
+                          "copy_columns", "add_embedded", "upsample_features", "upsample_features_simd"})
       kernels_.emplace(k, prog_.kernel(k));
     const cl_mem_flags ro = CL_MEM_READ_ONLY;
     pe_ = Buffer<float>(ctx_, plan.pe.empty() ? std::vector<float>{0} : plan.pe, ro);
@@ -82,9 +90,8 @@ class ClInference final : public SrInference {
         const SrTensor& We = m_->tensor(p + ".edge.weight");
         std::vector<float> W1 = columns(We, 0, in), W2 = columns(We, in, in);
         for (size_t i = 0; i < W1.size(); ++i) W1[i] -= W2[i];
-        b.W_self = Buffer<float>(ctx_, W1, ro);
-        b.b_self = Buffer<float>(ctx_, m_->tensor(p + ".edge.bias").values, ro);
-        b.W_other = Buffer<float>(ctx_, W2, ro);
+        b.self = dense_weights(W1, b.D, in, m_->tensor(p + ".edge.bias").values);
+        b.other = dense_weights(W2, b.D, in, {});
         const SrTensor& Wf = m_->tensor(p + ".fc.weight");
         b.W_fc = Buffer<float>(ctx_, Wf.values, ro);
         b.b_fc = Buffer<float>(ctx_, m_->tensor(p + ".fc.bias").values, ro);
@@ -94,30 +101,26 @@ class ClInference final : public SrInference {
           node.insert(node.end(), Wy.begin() + r * b.D, Wy.begin() + (r + 1) * b.D);
           node.insert(node.end(), Wh.begin() + r * in, Wh.begin() + (r + 1) * in);
         }
-        b.W_node = Buffer<float>(ctx_, node, ro);
+        b.node = dense_weights(node, b.D, b.D + in, {});
         Dmax = std::max(Dmax, b.D);
         off += in;
         in = b.D;
         blocks_.push_back(std::move(b));
       }
-    uint32_t width = C_, Hmax = 3;
+    uint32_t width = C_, Hmax = 16;
     const int layers = int(a.recon_hidden.size()) + 1;
     for (int l = 0; l < layers; ++l) {
       const std::string p = "recon." + std::to_string(l);
-      Layer L;
       const SrTensor& W = m_->tensor(p + ".weight");
-      L.in = uint32_t(W.shape[1]);
-      L.out = uint32_t(W.shape[0]);
-      require(L.in == width, "OpenCL inference: " + p + " does not fit the previous layer");
+      require(uint32_t(W.shape[1]) == width, "OpenCL inference: " + p + " does not fit the previous layer");
       std::vector<float> w = W.values, b = m_->tensor(p + ".bias").values;
       if (l + 1 == layers) {
         // The output scale folded into the last affine map.
         for (float& v : w) v = float(v * a.output_scale);
         for (float& v : b) v = float(v * a.output_scale);
       }
-      L.W = Buffer<float>(ctx_, w, ro);
-      L.b = Buffer<float>(ctx_, b, ro);
-      Hmax = std::max(Hmax, L.out);
+      Dense L = dense_weights(w, uint32_t(W.shape[0]), width, b);
+      Hmax = std::max(Hmax, L.P);
       width = L.out;
       recon_.push_back(std::move(L));
     }
@@ -128,11 +131,12 @@ class ClInference final : public SrInference {
     other_ = Buffer<float>(ctx_, size_t(N_) * Dmax);
     y_ = Buffer<float>(ctx_, size_t(N_) * Dmax);
     pooled_ = Buffer<float>(ctx_, 2 * size_t(Dmax));
-    pbias_ = Buffer<float>(ctx_, Dmax);
-    sq_ = Buffer<float>(ctx_, N_);
+    pbias_ = Buffer<float>(ctx_, round16(Dmax));
+    Np_ = round16(N_);
+    sq_ = Buffer<float>(ctx_, Np_);
     nbr_ = Buffer<cl_int>(ctx_, size_t(N_) * size_t(a.graph_k));
-    zero_ = Buffer<float>(ctx_, std::vector<float>(std::max(Dmax, Hmax), 0.0f), ro);
-    r0_ = Buffer<float>(ctx_, size_t(N_) * H0_);
+    zero_ = Buffer<float>(ctx_, std::vector<float>(round16(std::max(Dmax, Hmax)), 0.0f), ro);
+    r0_ = Buffer<float>(ctx_, size_t(N_) * recon_[0].P);
     proj_ = Buffer<float>(ctx_, N_);
     order_ = Buffer<cl_int>(ctx_, N_);
     rank_ = Buffer<cl_int>(ctx_, N_);
@@ -168,40 +172,51 @@ class ClInference final : public SrInference {
       if (s > 0) {
         // The graph of this submodule in its input's feature space.
         k("row_sqnorm").args(N_, b.in, enc_, C_, b.in_off, sq_).run_1d(N_, 64);
-        if (opt_.pruned_knn) {
+        if (opt_.knn == ClKnn::Pruned) {
           const float margin = project(b);
           k("feature_knn_pruned")
               .args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, proj_, order_, rank_, margin, nbr_)
               .run_1d(N_, 16);
+        } else if (opt_.knn == ClKnn::Simd || (opt_.knn == ClKnn::Auto && simd_)) {
+          if (hT_.size() < size_t(Np_) * b.in) hT_ = Buffer<float>(ctx_, size_t(Np_) * b.in);
+          k("transpose_columns").args(N_, Np_, b.in, enc_, C_, b.in_off, hT_).run_1d(size_t(Np_) * b.in, 64);
+          k("feature_knn_simd").args(N_, Np_, b.in, k_nn, hT_, sq_, nbr_).run_1d((N_ + 7) / 8, 8);  // 8 queries per work-item
         } else {
           k("feature_knn").args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, nbr_).run_1d(N_, 16);
         }
         nbr = &nbr_;
         stage("feature knn");
       }
-      dense(N_, b.D, b.in, 0, enc_, C_, b.in_off, enc_, C_, 0, b.W_self, b.b_self, self_, b.D, 0, kNone);
-      dense(N_, b.D, b.in, 0, enc_, C_, b.in_off, enc_, C_, 0, b.W_other, zero_, other_, b.D, 0, kNone);
+      dense(N_, b.self, enc_, C_, b.in_off, enc_, C_, 0, b.self.b, self_, b.D, 0, kNone);
+      dense(N_, b.other, enc_, C_, b.in_off, enc_, C_, 0, zero_, other_, b.D, 0, kNone);
       k("edge_max").args(N_, b.D, k_nn, self_, other_, *nbr, slope, y_).run_1d(size_t(N_) * b.D, 64);
       stage("edgeconv");
       k("pool_columns")
           .args(N_, b.D, y_, pooled_, LocalMemory{pool_local_ * sizeof(float)}, LocalMemory{pool_local_ * sizeof(float)})
           .run_1d(size_t(b.D) * pool_local_, pool_local_);
       k("pooled_bias").args(b.D, b.in, b.W_fc, b.b_fc, pooled_, pbias_).run_1d(b.D, 64);
-      dense(N_, b.D, b.D, b.in, y_, b.D, 0, enc_, C_, b.in_off, b.W_node, pbias_, enc_, C_, b.out_off, kLeaky);
+      dense(N_, b.node, y_, b.D, 0, enc_, C_, b.in_off, pbias_, enc_, C_, b.out_off, kLeaky, 0, b.in);
       stage("pool + shared fc");
     }
     // Reconstruction: the first affine map on the N LR nodes, then the fixed
     // upsampling, then the remaining SIREN layers on the M HR vertices.
     const float w0 = float(a.omega0);
-    dense(N_, H0_, C_, 0, enc_, C_, 0, enc_, C_, 0, recon_[0].W, recon_[0].b, r0_, H0_, 0, kNone);
+    const Dense& R0 = recon_[0];
+    dense(N_, R0, enc_, C_, 0, enc_, C_, 0, R0.b, r0_, R0.P, 0, kNone);
     stage("recon first layer (LR nodes)");
-    k("upsample_features").args(M_, K_, H0_, up_w_, up_idx_, r0_, w0, ha_).run_1d(size_t(M_) * H0_, 64);
+    if (simd_)
+      k("upsample_features_simd").args(M_, K_, R0.P, up_w_, up_idx_, r0_, w0, ha_).run_1d(size_t(M_) * (R0.P / 16), 16);
+    else
+      k("upsample_features").args(M_, K_, H0_, up_w_, up_idx_, r0_, w0, ha_).run_1d(size_t(M_) * H0_, 64);
     stage("upsample");
     Buffer<float>*in = &ha_, *out = &hb_;
+    uint32_t stride = R0.P;
     for (size_t l = 1; l < recon_.size(); ++l) {
-      const Layer& L = recon_[l];
+      const Dense& L = recon_[l];
       const bool last = l + 1 == recon_.size();
-      dense(M_, L.out, L.in, 0, *in, L.in, 0, *in, L.in, 0, L.W, L.b, *out, L.out, 0, last ? kNone : kSine, w0);
+      const uint32_t out_stride = last ? L.out : L.P;  // the last writes the compact M × 3 result
+      dense(M_, L, *in, stride, 0, *in, stride, 0, L.b, *out, out_stride, 0, last ? kNone : kSine, w0);
+      stride = out_stride;
       std::swap(in, out);
     }
     if (a.embedded_skip) k("add_embedded").args(M_, embed_nodes_, embed_w_, disp_, *in).run_1d(3 * size_t(M_), 64);
@@ -282,21 +297,41 @@ class ClInference final : public SrInference {
   }
 
   enum Act : cl_int { kNone = 0, kLeaky = 1, kSine = 2 };
-  void dense(uint32_t rows, uint32_t out_dim, uint32_t K1, uint32_t K2, const Buffer<float>& a1, uint32_t s1,
-             uint32_t off1, const Buffer<float>& a2, uint32_t s2, uint32_t off2, const Buffer<float>& W,
-             const Buffer<float>& bias, Buffer<float>& out, uint32_t out_stride, uint32_t out_off, Act act,
-             float omega0 = 0) {
-    // The row kernel on CPU devices (PoCL vectorises its dot products; the
-    // tiled one's barriers cost more there than they save), tiles on GPUs.
-    const bool rows_kernel = ctx_.device().type != compute::DeviceType::Gpu;
-    auto& kern = k(rows_kernel ? "dense_rows" : "dense_tiled");
-    kern.args(rows, out_dim, K1, K2, a1, s1, off1, a2, s2, off2, W, bias, out, out_stride, out_off, cl_int(act), omega0,
-              float(m_->arch.leaky_slope));
-    if (rows_kernel) {
-      kern.run_1d(rows, 16);
+  // W: out × K row-major; bias: out values or empty (its bias comes per call).
+  Dense dense_weights(const std::vector<float>& W, uint32_t out, uint32_t K, const std::vector<float>& bias) {
+    Dense d;
+    d.in = K;
+    d.out = out;
+    d.P = simd_ ? round16(out) : out;
+    std::vector<float> w = W, b = bias;
+    if (simd_) {
+      w.assign(size_t(K) * d.P, 0.0f);
+      for (uint32_t o = 0; o < out; ++o)
+        for (uint32_t c = 0; c < K; ++c) w[size_t(c) * d.P + o] = W[size_t(o) * K + c];
+      if (!b.empty()) b.resize(d.P, 0.0f);
+    }
+    d.W = Buffer<float>(ctx_, w, CL_MEM_READ_ONLY);
+    if (!b.empty()) d.b = Buffer<float>(ctx_, b, CL_MEM_READ_ONLY);
+    return d;
+  }
+
+  // out = act([a1 | a2] Wᵀ + bias): a1 gives the first L.in − K2 input columns, a2 the last K2.
+  void dense(uint32_t rows, const Dense& L, const Buffer<float>& a1, uint32_t s1, uint32_t off1,
+             const Buffer<float>& a2, uint32_t s2, uint32_t off2, const Buffer<float>& bias, Buffer<float>& out,
+             uint32_t out_stride, uint32_t out_off, Act act, float omega0 = 0, uint32_t K2 = 0) {
+    const uint32_t K1 = L.in - K2;
+    const float slope = float(m_->arch.leaky_slope);
+    if (simd_) {
+      k("dense_simd")
+          .args(rows, L.out, L.P, K1, K2, a1, s1, off1, a2, s2, off2, L.W, bias, out, out_stride, out_off,
+                cl_int(act), omega0, slope)
+          .run_1d(size_t((rows + 7) / 8) * (L.P / 16), 8);
     } else {
-      const size_t tiles = ((rows + kTile - 1) / kTile) * ((out_dim + kTile - 1) / kTile);
-      kern.run_1d(tiles * kTile * kTile, kTile * kTile);
+      const size_t tiles = ((rows + kTile - 1) / kTile) * ((L.out + kTile - 1) / kTile);
+      k("dense_tiled")
+          .args(rows, L.out, K1, K2, a1, s1, off1, a2, s2, off2, L.W, bias, out, out_stride, out_off, cl_int(act),
+                omega0, slope)
+          .run_1d(tiles * kTile * kTile, kTile * kTile);
     }
   }
 
@@ -305,13 +340,14 @@ class ClInference final : public SrInference {
   compute::Context ctx_;
   compute::Program prog_;
   std::map<std::string, compute::Kernel> kernels_;
-  uint32_t N_ = 0, M_ = 0, K_ = 0, C_ = 0, H0_ = 0;
+  uint32_t N_ = 0, M_ = 0, K_ = 0, C_ = 0, H0_ = 0, Np_ = 0;
+  bool simd_ = false;  // CPU device: dense_simd and the other 16-wide kernels
   std::vector<Block> blocks_;
-  std::vector<Layer> recon_;
+  std::vector<Dense> recon_;
   Buffer<float> pe_, up_w_, disp_, enc_, self_, other_, y_, pooled_, pbias_, sq_, zero_, r0_, ha_, hb_;
   Buffer<cl_int> up_idx_, graph_, nbr_, order_, rank_, embed_nodes_;
   Buffer<float> embed_w_;
-  Buffer<float> proj_, compact_;
+  Buffer<float> proj_, compact_, hT_;
   std::vector<float> host_h_;
   std::vector<double> u_;
   size_t pool_local_ = 64;

@@ -37,12 +37,16 @@ class SrInference {
 
 // Throws Error for a model of kind other than "sr".
 std::unique_ptr<SrInference> make_cpu_inference(std::shared_ptr<const SrModel> model);
+enum class ClKnn { Auto, Full, Simd, Pruned };
+
 struct ClInferenceOptions {
   compute::DeviceSelector device;
   bool profile = false;  // wait after each stage and time it (slower)
-  // Feature-space k-NN by projection pruning (exact: the same neighbours as
-  // the full scan, which stays available for checks and comparisons).
-  bool pruned_knn = true;
+  // Feature-space k-NN, every variant exact (the same neighbours in the same
+  // order): Auto picks Simd on CPU devices and Full on GPUs; Full scans every
+  // node per work-item; Simd scans 16 candidates per step for 4 queries;
+  // Pruned walks the nodes sorted along the features' principal direction.
+  ClKnn knn = ClKnn::Auto;
 };
 std::unique_ptr<SrInference> make_cl_inference(std::shared_ptr<const SrModel> model,
                                                const ClInferenceOptions& opt = {});

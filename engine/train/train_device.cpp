@@ -1,5 +1,7 @@
 #include "train/train_device.h"
 
+#include <sched.h>
+
 #include <thread>
 
 #include "core/error.h"
@@ -18,8 +20,13 @@ torch::Device training_device(const std::string& choice) {
 }
 
 void use_all_cores() {
-  const unsigned n = std::thread::hardware_concurrency();
-  if (n > 0) torch::set_num_threads(int(n));
+  // The cores this process may run on (taskset, cgroups), not the machine's:
+  // more threads than that only contend.
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  int n = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : 0;
+  if (n <= 0) n = int(std::thread::hardware_concurrency());
+  if (n > 0) torch::set_num_threads(n);
 }
 
 }  // namespace facesr
