@@ -100,11 +100,13 @@ __kernel void tet_gradient(const uint T, __global const fsr_real* mp, __global c
   for (int k = 0; k < 12; ++k) slots[12 * (size_t)t + k] = g[k];
 }
 
-// dP/dF (definiteness-fixed) per tet, and its four diagonal 3x3 blocks.
+// dP/dF (definiteness-fixed) per tet, packed and component-major (C_g[k·Tp +
+// t], Tp the tet count rounded up to PRODUCT_LANES), and its four diagonal
+// 3x3 blocks (in full precision, for the preconditioner).
 __kernel void tet_hessian(const uint T, __global const fsr_real* mp, __global const int* tets,
                           __global const fsr_real* x, __global const fsr_real* Dminv_g, __global const fsr_real* vol,
                           __global const fsr_real* fibre_g, __global const fsr_real* phi,
-                          __global const fsr_real* alpha, const int fix, __global fsr_real* C_g,
+                          __global const fsr_real* alpha, const int fix, const uint Tp, __global float* C_g,
                           __global fsr_real* dslots) {
   const uint t = get_global_id(0);
   if (t >= T) return;
@@ -114,7 +116,11 @@ __kernel void tet_hessian(const uint T, __global const fsr_real* mp, __global co
   fsr_tet_F(xc, Dminv, F);
   fsr_stress_derivative(&m, F, a, phi[t], alpha[t], fix, C);
   fsr_tet_diag_blocks(C, Dminv, vol[t], D);
-  for (int k = 0; k < 81; ++k) C_g[81 * (size_t)t + k] = C[k];
+  // dP/dF is symmetric (the energy's Hessian in F): its upper triangle, in
+  // float, is what product_tets reads (see there).
+  int n = 0;
+  for (int r = 0; r < 9; ++r)
+    for (int c = r; c < 9; ++c) C_g[(size_t)(n++) * Tp + t] = (float)(0.5 * (C[9 * r + c] + C[9 * c + r]));
   for (int k = 0; k < 36; ++k) dslots[36 * (size_t)t + k] = D[k];
 }
 
@@ -353,40 +359,105 @@ __kernel void scale_to(const uint n, const fsr_real s, __global const fsr_real* 
 // because on CPU devices launch latency rivals the arithmetic. Work-item per
 // node, power-of-two local size, one partial sum per work-group.
 
-// Tet and surface stiffness products in one launch: ids [0, T) are tets,
-// [T, T + S) the vertices of the surface list.
-__kernel void product_all(const uint T, const uint S, __global const int* tets, __global const fsr_real* p,
-                          __global const fsr_real* Dminv_g, __global const fsr_real* vol,
-                          __global const fsr_real* C_g, __global const int* slist, __global const int* sn,
-                          __global const fsr_real* sw, __global const fsr_real* surfH, __global fsr_real* slots) {
-  const uint id = get_global_id(0);
-  if (id < T) {
-    const uint t = id;
-    fsr_real pc[12], Dminv[9], dF[9], dP[9], y[12];
-    for (int k = 0; k < 4; ++k) {
-      const int n = tets[4 * t + k];
-      for (int c = 0; c < 3; ++c) pc[3 * k + c] = p[3 * n + c];
-    }
-    for (int k = 0; k < 9; ++k) Dminv[k] = Dminv_g[9 * (size_t)t + k];
-    fsr_tet_F(pc, Dminv, dF);
-    __global const fsr_real* C = C_g + 81 * (size_t)t;
-    for (int r = 0; r < 9; ++r) {
-      fsr_real s = 0;
-      for (int c = 0; c < 9; ++c) s += C[9 * r + c] * dF[c];
-      dP[r] = s;
-    }
-    fsr_tet_scatter(dP, Dminv, vol[t], y);
-    for (int k = 0; k < 12; ++k) slots[12 * (size_t)t + k] = y[k];
-  } else if (id < T + S) {
-    const uint i = id - T;
-    fsr_real q[3], w[4], hq[3];
-    surface_point(slist[i], sn, sw, p, q, w);
-    __global const fsr_real* H = surfH + 9 * (size_t)i;
-    for (int r = 0; r < 3; ++r) hq[r] = H[3 * r] * q[0] + H[3 * r + 1] * q[1] + H[3 * r + 2] * q[2];
-    __global fsr_real* out = slots + 12 * ((size_t)T + i);
-    for (int k = 0; k < 4; ++k)
-      for (int c = 0; c < 3; ++c) out[3 * k + c] = w[k] * hq[c];
+// The stiffness product K p, the CG's cost, in two launches: product_tets
+// and product_surface. PoCL runs per-tet code as scalar code (a work-item
+// body with loops is not vectorised across work-items), so product_tets is
+// explicitly SIMD: one work-item takes PRODUCT_LANES consecutive tets, one
+// tet per vector lane, with the per-tet data (Dminv, volume, dP/dF) stored
+// component-major (x[k·Tp + t]) so that each component is one vector load.
+// Only the node gathers and the slot stores are per lane. Padding tets
+// (t ≥ T) have zero Dminv and volume and are not stored. With the SIMD the
+// product became bound by memory traffic, dP/dF's 81 doubles per tet per
+// product (6.3 MB on ICT, measured 0.44 ms): so dP/dF is stored as its
+// upper triangle (it is symmetric) in float, 45 floats. That perturbs the
+// Newton matrix by about 1e-7 relatively, which only the CG sees; the
+// gradient and residuals stay in full precision, so the solution does not.
+#define PRODUCT_LANES 8
+#ifdef FSR_REAL_FLOAT
+typedef float8 preal;
+#define CLOAD(ptr) vload8(0, ptr)
+#else
+typedef double8 preal;
+#define CLOAD(ptr) convert_double8(vload8(0, ptr))
+#endif
+#define pload(ptr) vload8(0, ptr)
+
+__kernel void product_tets(const uint T, const uint Tp, __global const int* tets_cm, __global const fsr_real* p,
+                           __global const fsr_real* Dminv_cm, __global const fsr_real* vol_p,
+                           __global const float* C_cm, __global fsr_real* slots) {
+  const uint t0 = get_global_id(0) * PRODUCT_LANES;
+  if (t0 >= T) return;
+  // Corner positions' differences to corner 0, per lane: Ds = [p1 − p0, p2 − p0, p3 − p0].
+  preal pc[12];
+  #pragma unroll
+  for (int k = 0; k < 4; ++k) {
+    const int8 n = 3 * vload8(0, tets_cm + (size_t)k * Tp + t0);
+    #pragma unroll
+    for (int c = 0; c < 3; ++c)
+      pc[3 * k + c] = (preal)(p[n.s0 + c], p[n.s1 + c], p[n.s2 + c], p[n.s3 + c], p[n.s4 + c], p[n.s5 + c],
+                              p[n.s6 + c], p[n.s7 + c]);
   }
+  preal Ds[9], Dm[9], dF[9], dP[9];
+  #pragma unroll
+  for (int i = 0; i < 3; ++i)
+    #pragma unroll
+    for (int j = 0; j < 3; ++j) Ds[3 * i + j] = pc[3 * (j + 1) + i] - pc[i];
+  #pragma unroll
+  for (int k = 0; k < 9; ++k) Dm[k] = pload(Dminv_cm + (size_t)k * Tp + t0);
+  #pragma unroll
+  for (int i = 0; i < 3; ++i)
+    #pragma unroll
+    for (int j = 0; j < 3; ++j) dF[3 * i + j] = Ds[3 * i] * Dm[j] + Ds[3 * i + 1] * Dm[3 + j] + Ds[3 * i + 2] * Dm[6 + j];
+  __global const float* C = C_cm + t0;
+  #pragma unroll
+  for (int r = 0; r < 9; ++r) dP[r] = (preal)(0);
+  int m = 0;
+  #pragma unroll
+  for (int r = 0; r < 9; ++r) {
+    dP[r] += CLOAD(C + (size_t)(m++) * Tp) * dF[r];
+    #pragma unroll
+    for (int c = r + 1; c < 9; ++c) {
+      const preal v = CLOAD(C + (size_t)(m++) * Tp);
+      dP[r] += v * dF[c];
+      dP[c] += v * dF[r];
+    }
+  }
+  // fsr_tet_scatter per lane.
+  const preal vol = pload(vol_p + t0);
+  preal y[12];
+  #pragma unroll
+  for (int i = 0; i < 3; ++i) {
+    preal sum = (preal)(0);
+    #pragma unroll
+    for (int c = 0; c < 3; ++c) {
+      const preal v = vol * (dP[3 * i] * Dm[3 * c] + dP[3 * i + 1] * Dm[3 * c + 1] + dP[3 * i + 2] * Dm[3 * c + 2]);
+      y[3 * (c + 1) + i] = v;
+      sum += v;
+    }
+    y[i] = -sum;
+  }
+  fsr_real lane[PRODUCT_LANES];
+  const uint n = min((uint)PRODUCT_LANES, T - t0);
+  #pragma unroll
+  for (int k = 0; k < 12; ++k) {
+    vstore8(y[k], 0, lane);
+    for (uint l = 0; l < n; ++l) slots[12 * (size_t)(t0 + l) + k] = lane[l];
+  }
+}
+
+// The embedded surface vertices' track-spring products (slots after the tets').
+__kernel void product_surface(const uint T, const uint S, __global const fsr_real* p, __global const int* slist,
+                              __global const int* sn, __global const fsr_real* sw, __global const fsr_real* surfH,
+                              __global fsr_real* slots) {
+  const uint i = get_global_id(0);
+  if (i >= S) return;
+  fsr_real q[3], w[4], hq[3];
+  surface_point(slist[i], sn, sw, p, q, w);
+  __global const fsr_real* H = surfH + 9 * (size_t)i;
+  for (int r = 0; r < 3; ++r) hq[r] = H[3 * r] * q[0] + H[3 * r + 1] * q[1] + H[3 * r + 2] * q[2];
+  __global fsr_real* out = slots + 12 * ((size_t)T + i);
+  for (int k = 0; k < 4; ++k)
+    for (int c = 0; c < 3; ++c) out[3 * k + c] = w[k] * hq[c];
 }
 
 // q = gathered slots (bone nodes 0), and partial sums of p·q.
