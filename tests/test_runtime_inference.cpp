@@ -58,8 +58,16 @@ TEST(RuntimeInference, OpenClMatchesLibTorch) {
     const auto m = random_model(fe, cu, 11 + variant, skip, zero_rest);
     const auto lr = lr_frames(*m, 3);
     const auto ref = TorchPredictor(*m).predict(lr);
-    auto cl = make_cl_inference(m);
-    EXPECT_LT(worst_difference(*cl, lr, ref, m->num_hr), 1e-4) << "variant " << variant;
+    // The CPU device's 16-wide kernels, and the GPU path (tiled dense layers,
+    // one k-NN query per work-item) run on the same device.
+    for (ClKernels kernels : {ClKernels::Auto, ClKernels::Tiled}) {
+      ClInferenceOptions o;
+      o.kernels = kernels;
+      o.knn = kernels == ClKernels::Tiled ? ClKnn::Full : ClKnn::Auto;
+      auto cl = make_cl_inference(m, o);
+      EXPECT_LT(worst_difference(*cl, lr, ref, m->num_hr), 1e-4)
+          << "variant " << variant << (kernels == ClKernels::Tiled ? ", tiled kernels" : "");
+    }
   }
 }
 

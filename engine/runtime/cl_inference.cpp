@@ -61,7 +61,8 @@ class ClInference final : public SrInference {
     K_ = uint32_t(plan.K);
     require(a.graph_k <= 16, "OpenCL inference: graph_k " + std::to_string(a.graph_k) + " is above the kernels' 16");
     prog_ = ctx_.build_program({"sr_infer.cl"}, "-cl-std=CL1.2");
-    simd_ = ctx_.device().type != compute::DeviceType::Gpu;
+    simd_ = opt.kernels == ClKernels::Auto ? ctx_.device().type != compute::DeviceType::Gpu
+                                           : opt.kernels == ClKernels::Simd;
     for (const char* k : {"sr_input", "dense_simd", "dense_tiled", "edge_max", "pool_columns", "pooled_bias",
                           "row_sqnorm", "feature_knn", "feature_knn_simd", "feature_knn_pruned", "transpose_columns",
                           "copy_columns", "add_embedded", "upsample_features", "upsample_features_simd"})
@@ -177,7 +178,8 @@ class ClInference final : public SrInference {
           k("feature_knn_pruned")
               .args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, proj_, order_, rank_, margin, nbr_)
               .run_1d(N_, 16);
-        } else if (opt_.knn == ClKnn::Simd || (opt_.knn == ClKnn::Auto && simd_)) {
+        } else if (opt_.knn == ClKnn::Simd ||
+                   (opt_.knn == ClKnn::Auto && ctx_.device().type != compute::DeviceType::Gpu)) {
           if (hT_.size() < size_t(Np_) * b.in) hT_ = Buffer<float>(ctx_, size_t(Np_) * b.in);
           k("transpose_columns").args(N_, Np_, b.in, enc_, C_, b.in_off, hT_).run_1d(size_t(Np_) * b.in, 64);
           k("feature_knn_simd").args(N_, Np_, b.in, k_nn, hT_, sq_, nbr_).run_1d((N_ + 7) / 8, 8);  // 8 queries per work-item

@@ -37,6 +37,8 @@ class SrInference {
 
 // Throws Error for a model of kind other than "sr".
 std::unique_ptr<SrInference> make_cpu_inference(std::shared_ptr<const SrModel> model);
+
+enum class ClKernels { Auto, Simd, Tiled };
 enum class ClKnn { Auto, Full, Simd, Pruned };
 
 struct ClInferenceOptions {
@@ -44,9 +46,13 @@ struct ClInferenceOptions {
   bool profile = false;  // wait after each stage and time it (slower)
   // Feature-space k-NN, every variant exact (the same neighbours in the same
   // order): Auto picks Simd on CPU devices and Full on GPUs; Full scans every
-  // node per work-item; Simd scans 16 candidates per step for 4 queries;
+  // node per work-item; Simd scans 16 candidates per step for 8 queries;
   // Pruned walks the nodes sorted along the features' principal direction.
   ClKnn knn = ClKnn::Auto;
+  // Dense layers and upsampling: Auto picks the 16-wide Simd kernels on CPU
+  // devices and the local-memory Tiled ones on GPUs; either runs anywhere
+  // (so that tests cover the GPU path on a CPU device).
+  ClKernels kernels = ClKernels::Auto;
 };
 std::unique_ptr<SrInference> make_cl_inference(std::shared_ptr<const SrModel> model,
                                                const ClInferenceOptions& opt = {});
