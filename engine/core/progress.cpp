@@ -8,8 +8,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-Progress::Progress(std::string task, long total, bool enabled)
-    : task_(std::move(task)), total_(total), enabled_(enabled),
+Progress::Progress(std::string task, long total, bool enabled, long first)
+    : task_(std::move(task)), total_(total), first_(first), enabled_(enabled),
       start_(std::chrono::steady_clock::now()), last_(start_ - std::chrono::seconds(10)) {}
 
 void Progress::update(long done, const std::string& detail) {
@@ -19,7 +19,8 @@ void Progress::update(long done, const std::string& detail) {
   last_ = now;
   const double elapsed = seconds_since(start_);
   const double frac = total_ > 0 ? double(done) / double(total_) : 1.0;
-  const double eta = frac > 0 ? elapsed * (1.0 - frac) / frac : 0.0;
+  const long run = done - first_;
+  const double eta = run > 0 ? elapsed * double(total_ - done) / double(run) : 0.0;
   std::fprintf(stderr, "[%s] %ld/%ld (%.0f%%) elapsed %.1fs ETA %.1fs %s\n", task_.c_str(), done,
                total_, 100.0 * frac, elapsed, eta, detail.c_str());
 }

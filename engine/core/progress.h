@@ -8,13 +8,15 @@ namespace facesr {
 // Prints at most a few lines per second with percentage and ETA.
 class Progress {
  public:
-  Progress(std::string task, long total, bool enabled = true);
+  // first: work already done before this run (a resumed job), so that the
+  // ETA comes from this run's rate.
+  Progress(std::string task, long total, bool enabled = true, long first = 0);
   void update(long done, const std::string& detail = "");
   void finish(const std::string& detail = "");
 
  private:
   std::string task_;
-  long total_;
+  long total_, first_;
   bool enabled_;
   std::chrono::steady_clock::time_point start_, last_;
 };

@@ -274,7 +274,7 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
   };
 
   const int64_t F = data.train.size();
-  Progress progress("train " + arch.kind, opt.epochs, opt.progress);
+  Progress progress("train " + arch.kind, opt.epochs, opt.progress, start_epoch);
   double epoch_time_total = 0;
   int epochs_run = 0, since_best = 0;
   int epoch = start_epoch;
