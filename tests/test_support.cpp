@@ -1,7 +1,11 @@
 #include "test_support.h"
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
+
+#include "rig/rig_io.h"
 
 namespace facesr::fixtures {
 
@@ -20,7 +24,16 @@ RigBuildOptions coarse_rig_options() {
 }
 
 const Rig& procedural_rig() {
-  static const Rig rig = build_rig(coarse_rig_options());
+  // Built once per test binary build (rig builds are deterministic), then
+  // loaded by every test process: the build is ~4 s and ctest starts over a
+  // hundred processes that use it.
+  static const Rig rig = [] {
+    const std::string dir = shared_cache_dir("procedural_coarse_rig", [](const std::string& d) {
+      std::filesystem::create_directories(d);
+      save_rig(build_rig(coarse_rig_options()), d + "/coarse.rig");
+    });
+    return load_rig(dir + "/coarse.rig");
+  }();
   return rig;
 }
 
@@ -31,6 +44,22 @@ double face_size(const Rig& r) {
 std::string ict_dir() {
   const char* env = std::getenv("FACESR_ICT_DIR");
   return env ? env : FACESR_TEST_ICT_DIR;
+}
+
+std::string shared_cache_dir(const std::string& name, void (*make)(const std::string& dir)) {
+  namespace fs = std::filesystem;
+  const auto stamp = fs::last_write_time("/proc/self/exe").time_since_epoch().count();
+  const fs::path root = fs::temp_directory_path() / ("facesr_test_cache_" + std::to_string(stamp));
+  const fs::path dir = root / name;
+  if (fs::is_directory(dir)) return dir.string();
+  fs::create_directories(root);
+  const fs::path tmp = root / (name + ".tmp" + std::to_string(::getpid()));
+  fs::remove_all(tmp);
+  make(tmp.string());
+  std::error_code ec;
+  fs::rename(tmp, dir, ec);  // fails harmlessly if another process got there first
+  if (ec) fs::remove_all(tmp);
+  return dir.string();
 }
 
 bool have_ict() { return std::filesystem::exists(ict_dir() + "/README.md") || std::filesystem::is_directory(ict_dir()); }

@@ -19,6 +19,14 @@ double face_size(const Rig& r);
 std::string ict_dir();  // $FACESR_ICT_DIR or ../shared/data/ict-facekit
 bool have_ict();
 
+// A folder made once per build of the test binary and shared by all its
+// processes (ctest runs every test in a process of its own, so a suite's
+// SetUpTestSuite would otherwise redo the work for each test). `make` fills
+// a fresh temporary folder that is then renamed into place; concurrent
+// makers race benignly. Keyed by the binary's modification time, so a
+// rebuild never sees an older build's folder.
+std::string shared_cache_dir(const std::string& name, void (*make)(const std::string& dir));
+
 }  // namespace facesr::fixtures
 
 namespace facesr::fixtures {

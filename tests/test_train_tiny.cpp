@@ -28,11 +28,17 @@ class TrainTiny : public fixtures::ScratchSuite<TrainTiny> {
  protected:
   static void SetUpTestSuite() {
     ScratchSuite::SetUpTestSuite();
-    DatasetOptions o;
-    o.builtins = {"pain", "anger"};
-    o.max_frames = 12;
-    o.progress = false;
-    generate_dataset(fixtures::procedural_rig(), path("p.rig"), path("data"), o);
+    // The tiny dataset is the same for every test of the suite: made once.
+    const std::string cached = fixtures::shared_cache_dir("train_tiny_data", [](const std::string& dir) {
+      DatasetOptions o;
+      o.builtins = {"pain", "anger"};
+      o.max_frames = 12;
+      o.progress = false;
+      save_rig(fixtures::procedural_rig(), dir + ".rig");
+      generate_dataset(fixtures::procedural_rig(), dir + ".rig", dir, o);
+      fs::remove(dir + ".rig");
+    });
+    fs::copy(cached, path("data"), fs::copy_options::recursive);
   }
   static SrArchitecture arch() {
     SrArchitecture a;
