@@ -14,7 +14,7 @@
 namespace facesr::fixtures {
 
 RigBuildOptions coarse_rig_options();
-const Rig& procedural_rig();  // coarse preset, built on first use (~4 s)
+const Rig& procedural_rig();  // coarse preset; built once per build of the test binary (shared_cache_dir), loaded on first use
 double face_size(const Rig& r);
 std::string ict_dir();  // $FACESR_ICT_DIR or ../shared/data/ict-facekit
 bool have_ict();
