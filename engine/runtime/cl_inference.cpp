@@ -61,8 +61,10 @@ class ClInference final : public SrInference {
     K_ = uint32_t(plan.K);
     require(a.graph_k <= 16, "OpenCL inference: graph_k " + std::to_string(a.graph_k) + " is above the kernels' 16");
     prog_ = ctx_.build_program({"sr_infer.cl"}, "-cl-std=CL1.2");
-    simd_ = opt.kernels == ClKernels::Auto ? ctx_.device().type != compute::DeviceType::Gpu
-                                           : opt.kernels == ClKernels::Simd;
+    // Auto choices, made once: the 16-wide kernels on CPU devices.
+    const bool cpu_device = ctx_.device().type != compute::DeviceType::Gpu;
+    simd_ = opt.kernels == ClKernels::Auto ? cpu_device : opt.kernels == ClKernels::Simd;
+    knn_ = opt.knn != ClKnn::Auto ? opt.knn : cpu_device ? ClKnn::Simd : ClKnn::Full;
     for (const char* k : {"sr_input", "dense_simd", "dense_tiled", "edge_max", "pool_columns", "pooled_bias",
                           "row_sqnorm", "feature_knn", "feature_knn_simd", "feature_knn_pruned", "transpose_columns",
                           "copy_columns", "add_embedded", "upsample_features", "upsample_features_simd"})
@@ -173,13 +175,12 @@ class ClInference final : public SrInference {
       if (s > 0) {
         // The graph of this submodule in its input's feature space.
         k("row_sqnorm").args(N_, b.in, enc_, C_, b.in_off, sq_).run_1d(N_, 64);
-        if (opt_.knn == ClKnn::Pruned) {
+        if (knn_ == ClKnn::Pruned) {
           const float margin = project(b);
           k("feature_knn_pruned")
               .args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, proj_, order_, rank_, margin, nbr_)
               .run_1d(N_, 16);
-        } else if (opt_.knn == ClKnn::Simd ||
-                   (opt_.knn == ClKnn::Auto && ctx_.device().type != compute::DeviceType::Gpu)) {
+        } else if (knn_ == ClKnn::Simd) {
           if (hT_.size() < size_t(Np_) * b.in) hT_ = Buffer<float>(ctx_, size_t(Np_) * b.in);
           k("transpose_columns").args(N_, Np_, b.in, enc_, C_, b.in_off, hT_).run_1d(size_t(Np_) * b.in, 64);
           k("feature_knn_simd").args(N_, Np_, b.in, k_nn, hT_, sq_, nbr_).run_1d((N_ + 7) / 8, 8);  // 8 queries per work-item
@@ -344,6 +345,7 @@ class ClInference final : public SrInference {
   std::map<std::string, compute::Kernel> kernels_;
   uint32_t N_ = 0, M_ = 0, K_ = 0, C_ = 0, H0_ = 0, Np_ = 0;
   bool simd_ = false;  // CPU device: dense_simd and the other 16-wide kernels
+  ClKnn knn_ = ClKnn::Full;  // opt_.knn with Auto resolved
   std::vector<Block> blocks_;
   std::vector<Dense> recon_;
   Buffer<float> pe_, up_w_, disp_, enc_, self_, other_, y_, pooled_, pbias_, sq_, zero_, r0_, ha_, hb_;

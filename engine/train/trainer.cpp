@@ -218,7 +218,6 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
     } catch (const Error& e) {
       throw Error("train: --init-from " + opt.init_from + " does not fit this architecture: " + e.what());
     }
-    net.module().to(dev);
   }
   torch::optim::Adam optim(net.module().parameters(), torch::optim::AdamOptions(opt.learning_rate));
 
