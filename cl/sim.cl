@@ -124,6 +124,120 @@ __kernel void tet_hessian(const uint T, __global const fsr_real* mp, __global co
   for (int k = 0; k < 36; ++k) dslots[36 * (size_t)t + k] = D[k];
 }
 
+// ---- Element kernels, eight tets per work-item (CPU devices) ----
+// PoCL compiles a one-tet-per-work-item kernel with loops as scalar code, so
+// on CPU devices every per-tet kernel (energy, gradient, Hessian, stiffness
+// product) takes PRODUCT_LANES consecutive tets, one per vector lane: the
+// material body (cl/fsr_material_body.h) instantiated for vectors. Per-tet
+// data are component-major (x[k·Tp + t], Tp = T rounded up to whole
+// vectors); padding tets (t ≥ T) have zero Dminv, volume, fibre fraction and
+// activation, stay finite, and are never stored into slots. The one-tet
+// kernels above stay for GPUs, where a work-item per tet is the natural fit.
+#define PRODUCT_LANES 8
+#ifdef FSR_REAL_FLOAT
+typedef float8 preal;
+typedef int8 pmask;
+#define CLOAD(ptr) vload8(0, ptr)
+#else
+typedef double8 preal;
+typedef long8 pmask;
+#define CLOAD(ptr) convert_double8(vload8(0, ptr))
+#endif
+#define pload(ptr) vload8(0, ptr)
+
+#define FSR_T preal
+#define FSR(name) fsr8_##name
+#define FSR_IF(c, a, b) select((b), (a), (c))
+#define FSR_ALL(c) all(c)
+#define FSR_M pmask
+#include "fsr_material_body.h"
+#undef FSR_T
+#undef FSR
+#undef FSR_IF
+#undef FSR_ALL
+#undef FSR_M
+
+void load_tets8(uint t0, uint Tp, __global const int* tets_cm, __global const fsr_real* x,
+                __global const fsr_real* Dminv_cm, __global const fsr_real* fibre_cm, preal* xc, preal* Dm,
+                preal* a) {
+  #pragma unroll
+  for (int k = 0; k < 4; ++k) {
+    const int8 n = 3 * vload8(0, tets_cm + (size_t)k * Tp + t0);
+    #pragma unroll
+    for (int c = 0; c < 3; ++c)
+      xc[3 * k + c] = (preal)(x[n.s0 + c], x[n.s1 + c], x[n.s2 + c], x[n.s3 + c], x[n.s4 + c], x[n.s5 + c],
+                              x[n.s6 + c], x[n.s7 + c]);
+  }
+  #pragma unroll
+  for (int k = 0; k < 9; ++k) Dm[k] = pload(Dminv_cm + (size_t)k * Tp + t0);
+  #pragma unroll
+  for (int k = 0; k < 3; ++k) a[k] = pload(fibre_cm + (size_t)k * Tp + t0);
+}
+
+// Stores `count` per-tet vectors v[k] tet-major (out[count·t + k]) for the real tets.
+void store_tets8(uint T, uint t0, int count, const preal* v, __global fsr_real* out) {
+  fsr_real lane[PRODUCT_LANES];
+  const uint n = min((uint)PRODUCT_LANES, T - t0);
+  for (int k = 0; k < count; ++k) {
+    vstore8(v[k], 0, lane);
+    for (uint l = 0; l < n; ++l) out[count * (size_t)(t0 + l) + k] = lane[l];
+  }
+}
+
+// e has Tp entries (padding tets get 0).
+__kernel void tet_energy8(const uint T, const uint Tp, __global const fsr_real* mp, __global const int* tets_cm,
+                          __global const fsr_real* x, __global const fsr_real* Dminv_cm,
+                          __global const fsr_real* vol_p, __global const fsr_real* fibre_cm,
+                          __global const fsr_real* phi_p, __global const fsr_real* alpha_p, __global fsr_real* e) {
+  const uint t0 = get_global_id(0) * PRODUCT_LANES;
+  if (t0 >= T) return;
+  const fsr_material m = material_of(mp);
+  preal xc[12], Dm[9], a[3], F[9];
+  load_tets8(t0, Tp, tets_cm, x, Dminv_cm, fibre_cm, xc, Dm, a);
+  fsr8_tet_F(xc, Dm, F);
+  const preal psi = fsr8_energy_density(&m, F, a, pload(phi_p + t0), pload(alpha_p + t0));
+  vstore8(pload(vol_p + t0) * psi, 0, e + t0);
+}
+
+__kernel void tet_gradient8(const uint T, const uint Tp, __global const fsr_real* mp, __global const int* tets_cm,
+                            __global const fsr_real* x, __global const fsr_real* Dminv_cm,
+                            __global const fsr_real* vol_p, __global const fsr_real* fibre_cm,
+                            __global const fsr_real* phi_p, __global const fsr_real* alpha_p,
+                            __global fsr_real* slots) {
+  const uint t0 = get_global_id(0) * PRODUCT_LANES;
+  if (t0 >= T) return;
+  const fsr_material m = material_of(mp);
+  preal xc[12], Dm[9], a[3], F[9], P[9], g[12];
+  load_tets8(t0, Tp, tets_cm, x, Dminv_cm, fibre_cm, xc, Dm, a);
+  fsr8_tet_F(xc, Dm, F);
+  fsr8_stress(&m, F, a, pload(phi_p + t0), pload(alpha_p + t0), P);
+  fsr8_tet_scatter(P, Dm, pload(vol_p + t0), g);
+  store_tets8(T, t0, 12, g, slots);
+}
+
+// As tet_hessian: packed float dP/dF for product_tets, full-precision diagonal blocks.
+__kernel void tet_hessian8(const uint T, const uint Tp, __global const fsr_real* mp, __global const int* tets_cm,
+                           __global const fsr_real* x, __global const fsr_real* Dminv_cm,
+                           __global const fsr_real* vol_p, __global const fsr_real* fibre_cm,
+                           __global const fsr_real* phi_p, __global const fsr_real* alpha_p, const int fix,
+                           __global float* C_g, __global fsr_real* dslots) {
+  const uint t0 = get_global_id(0) * PRODUCT_LANES;
+  if (t0 >= T) return;
+  const fsr_material m = material_of(mp);
+  preal xc[12], Dm[9], a[3], F[9], C[81], D[36];
+  load_tets8(t0, Tp, tets_cm, x, Dminv_cm, fibre_cm, xc, Dm, a);
+  fsr8_tet_F(xc, Dm, F);
+  fsr8_stress_derivative(&m, F, a, pload(phi_p + t0), pload(alpha_p + t0), fix, C);
+  fsr8_tet_diag_blocks(C, Dm, pload(vol_p + t0), D);
+  int n = 0;
+  #pragma unroll
+  for (int r = 0; r < 9; ++r)
+    #pragma unroll
+    for (int c = r; c < 9; ++c)
+      vstore8(convert_float8((fsr_real)0.5 * (C[9 * r + c] + C[9 * c + r])), 0, C_g + (size_t)(n++) * Tp + t0);
+  store_tets8(T, t0, 36, D, dslots);
+}
+
 // External terms at one embedded surface point: track spring, point spring,
 // sphere penalties. mode 0: energy → e[v]; 1: gradient → slots; 2: Hessian
 // with the definiteness fix (the spheres' negative curvature term dropped),
@@ -365,22 +479,13 @@ __kernel void scale_to(const uint n, const fsr_real s, __global const fsr_real* 
 // explicitly SIMD: one work-item takes PRODUCT_LANES consecutive tets, one
 // tet per vector lane, with the per-tet data (Dminv, volume, dP/dF) stored
 // component-major (x[k·Tp + t]) so that each component is one vector load.
-// Only the node gathers and the slot stores are per lane. Padding tets
-// (t ≥ T) have zero Dminv and volume and are not stored. With the SIMD the
+// Only the node gathers and the slot stores are per lane (see the
+// eight-tet element kernels above for the layout and padding). With the SIMD the
 // product became bound by memory traffic, dP/dF's 81 doubles per tet per
 // product (6.3 MB on ICT, measured 0.44 ms): so dP/dF is stored as its
 // upper triangle (it is symmetric) in float, 45 floats. That perturbs the
 // Newton matrix by about 1e-7 relatively, which only the CG sees; the
 // gradient and residuals stay in full precision, so the solution does not.
-#define PRODUCT_LANES 8
-#ifdef FSR_REAL_FLOAT
-typedef float8 preal;
-#define CLOAD(ptr) vload8(0, ptr)
-#else
-typedef double8 preal;
-#define CLOAD(ptr) convert_double8(vload8(0, ptr))
-#endif
-#define pload(ptr) vload8(0, ptr)
 
 __kernel void product_tets(const uint T, const uint Tp, __global const int* tets_cm, __global const fsr_real* p,
                            __global const fsr_real* Dminv_cm, __global const fsr_real* vol_p,

@@ -211,6 +211,32 @@ TEST(OpenCL, KernelDirOverride) {
   std::filesystem::remove_all(dir);
 }
 
+// #include "name" lines are replaced by that kernel file (recursively), the
+// same file as often as it is included; a missing one names itself.
+TEST(OpenCL, KernelIncludesAreExpanded) {
+  const auto dir = std::filesystem::temp_directory_path() / "facesr_cl_include_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "twice.h") << "#include \"leaf.h\"\n";
+  std::ofstream(dir / "leaf.h") << "KERNEL_LINE(N)\n";
+  std::ofstream(dir / "top.cl") << "first\n  #include \"twice.h\"\nmiddle\n#include \"leaf.h\"\nlast\n";
+  std::ofstream(dir / "bad.cl") << "#include \"nowhere.h\"\n";
+  {
+    ScopedEnv env("FACESR_CL_DIR", dir.string());
+    EXPECT_EQ(fc::load_kernel_source("top.cl"), "first\nKERNEL_LINE(N)\nmiddle\nKERNEL_LINE(N)\nlast\n");
+    try {
+      fc::load_kernel_source("bad.cl");
+      ADD_FAILURE() << "missing include accepted";
+    } catch (const facesr::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("nowhere.h"), std::string::npos) << e.what();
+    }
+  }
+  std::filesystem::remove_all(dir);
+  // The embedded material header brings its body with it.
+  const std::string material = fc::load_kernel_source("fsr_material.h");
+  EXPECT_EQ(material.find("#include"), std::string::npos);
+  EXPECT_NE(material.find("FSR(svd3)"), std::string::npos);
+}
+
 TEST(OpenCL, EmptyBufferIsUsable) {
   SKIP_WITHOUT_OPENCL();
   fc::Context ctx;

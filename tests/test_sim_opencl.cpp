@@ -34,9 +34,26 @@ double max_abs_diff(const std::vector<double>& a, const std::vector<double>& b) 
   return d;
 }
 
+// Each parity test runs with both element-kernel variants: eight tets per
+// work-item (the CPU default) and one tet per work-item (the GPU default).
+class SimOpenCLElements : public ::testing::TestWithParam<ClSimulatorOptions::Elements> {
+ protected:
+  ClSimulatorOptions options() const {
+    ClSimulatorOptions o;
+    o.elements = GetParam();
+    return o;
+  }
+};
+
 }  // namespace
 
-TEST(SimOpenCL, ConvergedPositionsMatchCpuReference) {
+INSTANTIATE_TEST_SUITE_P(Kernels, SimOpenCLElements,
+                         ::testing::Values(ClSimulatorOptions::Elements::Simd, ClSimulatorOptions::Elements::Scalar),
+                         [](const auto& info) {
+                           return info.param == ClSimulatorOptions::Elements::Simd ? "Simd" : "Scalar";
+                         });
+
+TEST_P(SimOpenCLElements, ConvergedPositionsMatchCpuReference) {
   const SimModel m = make_sim_model(fixtures::procedural_rig(), Resolution::Low);
   SolverOptions opt;
   opt.newton_tol = 1e-6;
@@ -44,7 +61,7 @@ TEST(SimOpenCL, ConvergedPositionsMatchCpuReference) {
   opt.cg_tol = 1e-6;
   opt.cg_max = 2000;
   auto cpu = make_cpu_simulator(m, opt);
-  auto gpu = make_cl_simulator(m, opt);
+  auto gpu = make_cl_simulator(m, opt, options());
   std::printf("device: %s\n", gpu->device().c_str());
   Controls c = zero_controls(m);
   c.weights[shape_index(m, "jawOpen")] = 0.6f;
@@ -70,10 +87,10 @@ TEST(SimOpenCL, ConvergedPositionsMatchCpuReference) {
   EXPECT_EQ(a.inverted_tets, b.inverted_tets);
 }
 
-TEST(SimOpenCL, ForcesMatchCpuReference) {
+TEST_P(SimOpenCLElements, ForcesMatchCpuReference) {
   const SimModel m = make_sim_model(fixtures::procedural_rig(), Resolution::Low);
   auto cpu = make_cpu_simulator(m);
-  auto gpu = make_cl_simulator(m);
+  auto gpu = make_cl_simulator(m, {}, options());
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-0.2, 0.2);
   std::vector<double> x = m.rest;
@@ -96,9 +113,9 @@ TEST(SimOpenCL, ForcesMatchCpuReference) {
   EXPECT_LT(std::sqrt(num / den), 1e-5);
 }
 
-TEST(SimOpenCL, SinglePrecisionStaysCloseToReference) {
+TEST_P(SimOpenCLElements, SinglePrecisionStaysCloseToReference) {
   const SimModel m = make_sim_model(fixtures::procedural_rig(), Resolution::Low);
-  ClSimulatorOptions single;
+  ClSimulatorOptions single = options();
   single.single_precision = true;
   SolverOptions opt;
   opt.newton_tol = 1e-4;

@@ -39,7 +39,9 @@ std::vector<std::string> embedded_kernel_files() {
   return names;
 }
 
-std::string load_kernel_source(const std::string& file_name) {
+namespace {
+
+std::string read_kernel_file(const std::string& file_name) {
   const char* dir = std::getenv("FACESR_CL_DIR");
   if (dir && *dir) {
     // No silent fallback to the embedded copy: a developer who set the
@@ -58,6 +60,36 @@ std::string load_kernel_source(const std::string& file_name) {
     throw Error("unknown OpenCL kernel file '" + file_name +
                 "'; available: " + join(embedded_kernel_files(), ", "));
   return it->second;
+}
+
+// Replaces each `#include "name"` line by that kernel file, recursively: the
+// embedded sources have no directory for the OpenCL compiler to search, and
+// the material body is included once per value type (cl/fsr_material.h).
+std::string expand_includes(const std::string& file_name, const std::string& text, int depth) {
+  require(depth < 8, "OpenCL kernel file '" + file_name + "': #include nested too deeply");
+  std::istringstream in(text);
+  std::ostringstream out;
+  std::string line;
+  while (std::getline(in, line)) {
+    const size_t a = line.find_first_not_of(" \t");
+    const std::string directive = "#include \"";
+    if (a != std::string::npos && line.compare(a, directive.size(), directive) == 0) {
+      const size_t b = a + directive.size(), e = line.find('"', b);
+      require(e != std::string::npos, "OpenCL kernel file '" + file_name + "': malformed #include: " + line);
+      const std::string name = line.substr(b, e - b);
+      const std::string body = expand_includes(name, read_kernel_file(name), depth + 1);
+      out << body << (body.empty() || body.back() != '\n' ? "\n" : "");
+    } else {
+      out << line << "\n";
+    }
+  }
+  return out.str();
+}
+
+}  // namespace
+
+std::string load_kernel_source(const std::string& file_name) {
+  return expand_includes(file_name, read_kernel_file(file_name), 0);
 }
 
 Program Context::build_program(const std::vector<std::string>& kernel_file_names,

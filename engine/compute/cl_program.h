@@ -11,7 +11,8 @@ namespace facesr::compute {
 // Names of the kernel files compiled into the binary ("smoke.cl", ...).
 std::vector<std::string> embedded_kernel_files();
 // Source of one kernel file: $FACESR_CL_DIR/<name> when the variable is set,
-// else the embedded copy. Throws Error listing the known names if absent.
+// else the embedded copy, with each `#include "name"` line replaced by that
+// file, recursively. Throws Error listing the known names if one is absent.
 std::string load_kernel_source(const std::string& file_name);
 
 // Binds a `__local T*` argument of the given size in bytes.

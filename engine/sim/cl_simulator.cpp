@@ -28,8 +28,11 @@ std::vector<Real> to_real(const std::vector<double>& v) {
 template <typename Real>
 class ClSimulator final : public Simulator {
  public:
-  ClSimulator(const SimModel& m, const SolverOptions& opt, const compute::DeviceInfo& dev)
+  ClSimulator(const SimModel& m, const SolverOptions& opt, const compute::DeviceInfo& dev,
+              ClSimulatorOptions::Elements elements)
       : m_(m), opt_(opt), ctx_(dev) {
+    using Elements = ClSimulatorOptions::Elements;
+    simd_elements_ = elements == Elements::Simd || (elements == Elements::Auto && dev.type == compute::DeviceType::Cpu);
     std::string options = "-cl-std=CL1.2";
     if (sizeof(Real) == 4) options += " -DFSR_REAL_FLOAT -cl-single-precision-constant";
     prog_ = ctx_.build_program({"fsr_material.h", "sim.cl"}, options);
@@ -44,7 +47,6 @@ class ClSimulator final : public Simulator {
     Dminv_ = Buffer<Real>(ctx_, to_real<Real>(m.Dminv), ro);
     vol_ = Buffer<Real>(ctx_, to_real<Real>(m.volume), ro);
     fibre_ = Buffer<Real>(ctx_, to_real<Real>(m.fibre), ro);
-    phi_ = Buffer<Real>(ctx_, to_real<Real>(m.phi), ro);
     muscle_ = Buffer<cl_int>(ctx_, m.muscle, ro);
     bone_ = Buffer<cl_uchar>(ctx_, m.node_bone, ro);
     surf_nodes_ = Buffer<cl_int>(ctx_, m.surf_nodes, ro);
@@ -62,7 +64,6 @@ class ClSimulator final : public Simulator {
 
     weights_ = Buffer<float>(ctx_, std::max<size_t>(1, m.num_shapes));
     act_ = Buffer<Real>(ctx_, std::max<size_t>(1, m.num_muscles));
-    alpha_ = Buffer<Real>(ctx_, T);
     target_ = Buffer<Real>(ctx_, 3 * S);
     spring_k_ = Buffer<Real>(ctx_, S);
     spring_target_ = Buffer<Real>(ctx_, 3 * S);
@@ -71,30 +72,38 @@ class ClSimulator final : public Simulator {
     dslots_ = Buffer<Real>(ctx_, 36 * (T + S));
     // Component-major copies for product_tets (cl/sim.cl): x[k·Tp + t],
     // padded to whole vectors with zero Dminv and volume.
+    // The per-tet scalars phi and alpha are padded the same way (the one-tet
+    // kernels read only their first T entries).
     Tp_ = uint32_t((T + kProductLanes - 1) / kProductLanes * kProductLanes);
     {
       std::vector<cl_int> tets_cm(4 * size_t(Tp_), 0);
-      std::vector<Real> Dminv_cm(9 * size_t(Tp_), Real(0)), vol_p(Tp_, Real(0));
+      std::vector<Real> Dminv_cm(9 * size_t(Tp_), Real(0)), fibre_cm(3 * size_t(Tp_), Real(0)),
+          vol_p(Tp_, Real(0)), phi_p(Tp_, Real(0));
       for (size_t t = 0; t < T; ++t) {
         for (int k = 0; k < 4; ++k) tets_cm[k * size_t(Tp_) + t] = m.tets[4 * t + k];
         for (int k = 0; k < 9; ++k) Dminv_cm[k * size_t(Tp_) + t] = Real(m.Dminv[9 * t + k]);
+        for (int k = 0; k < 3; ++k) fibre_cm[k * size_t(Tp_) + t] = Real(m.fibre[3 * t + k]);
         vol_p[t] = Real(m.volume[t]);
+        phi_p[t] = Real(m.phi[t]);
       }
       tets_cm_ = Buffer<cl_int>(ctx_, tets_cm, ro);
       Dminv_cm_ = Buffer<Real>(ctx_, Dminv_cm, ro);
+      fibre_cm_ = Buffer<Real>(ctx_, fibre_cm, ro);
       vol_p_ = Buffer<Real>(ctx_, vol_p, ro);
+      phi_ = Buffer<Real>(ctx_, phi_p, ro);
+      alpha_ = Buffer<Real>(ctx_, std::vector<Real>(Tp_, Real(0)));
       C_ = Buffer<float>(ctx_, std::vector<float>(45 * size_t(Tp_), 0.0f));  // packed dP/dF, see tet_hessian
     }
     surfH_ = Buffer<Real>(ctx_, 9 * std::max<size_t>(1, S));
     Minv_ = Buffer<Real>(ctx_, 9 * N);
-    elem_ = Buffer<Real>(ctx_, std::max(T, S));
+    elem_ = Buffer<Real>(ctx_, std::max<size_t>(Tp_, S));
     surf_out_ = Buffer<float>(ctx_, 3 * std::max<size_t>(1, S));
     local_ = 64;
     groups_ = 64;
     node_groups_ = (N + local_ - 1) / local_;
     partial_ = Buffer<Real>(ctx_, 2 * std::max(groups_, node_groups_));
     for (const char* k : {"frame_tet_alpha", "frame_targets", "apply_dirichlet", "tet_energy", "tet_gradient",
-                          "tet_hessian", "surface_terms", "gather_nodes",
+                          "tet_hessian", "tet_energy8", "tet_gradient8", "tet_hessian8", "surface_terms", "gather_nodes",
                           "gather_diag_inverse", "precondition", "dot2_partial", "sum_partial",
                           "cg_direction", "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "cg_update", "tet_inverted", "embed_surface"})
       kernels_.emplace(k, prog_.kernel(k));
@@ -290,14 +299,20 @@ class ClSimulator final : public Simulator {
 
   void gradient(const Buffer<Real>& x, Buffer<Real>& g) {
     const uint32_t T = m_.num_tets, N = m_.num_nodes;
-    k("tet_gradient").args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, slots_).run_1d(T, local_);
+    if (simd_elements_)
+      k("tet_gradient8").args(T, Tp_, mat_, tets_cm_, x, Dminv_cm_, vol_p_, fibre_cm_, phi_, alpha_, slots_).run_1d(Tp_ / kProductLanes, 8);
+    else
+      k("tet_gradient").args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, slots_).run_1d(T, local_);
     surface_terms(x, 1);
     k("gather_nodes").args(N, cur_->offset, cur_->slot, bone_, slots_, g).run_1d(N, local_);
   }
 
   double energy(const Buffer<Real>& x) {
     const uint32_t T = m_.num_tets, S = cur_->count;
-    k("tet_energy").args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, elem_).run_1d(T, local_);
+    if (simd_elements_)
+      k("tet_energy8").args(T, Tp_, mat_, tets_cm_, x, Dminv_cm_, vol_p_, fibre_cm_, phi_, alpha_, elem_).run_1d(Tp_ / kProductLanes, 8);
+    else
+      k("tet_energy").args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, elem_).run_1d(T, local_);
     const double e = sum(elem_, T);
     surface_terms(x, 0);
     return e + sum(elem_, S);
@@ -305,7 +320,14 @@ class ClSimulator final : public Simulator {
 
   void hessian(const Buffer<Real>& x, bool fix = true) {
     const uint32_t T = m_.num_tets, N = m_.num_nodes;
-    k("tet_hessian").args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, cl_int(fix ? 1 : 0), Tp_, C_, dslots_).run_1d(T, local_);
+    if (simd_elements_)
+      k("tet_hessian8")
+          .args(T, Tp_, mat_, tets_cm_, x, Dminv_cm_, vol_p_, fibre_cm_, phi_, alpha_, cl_int(fix ? 1 : 0), C_, dslots_)
+          .run_1d(Tp_ / kProductLanes, 8);
+    else
+      k("tet_hessian")
+          .args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, cl_int(fix ? 1 : 0), Tp_, C_, dslots_)
+          .run_1d(T, local_);
     surface_terms(x, fix ? 2 : 3);
     k("gather_diag_inverse").args(N, cur_->offset, cur_->slot, bone_, dslots_, Minv_).run_1d(N, local_);
   }
@@ -416,7 +438,8 @@ class ClSimulator final : public Simulator {
   static constexpr uint32_t kProductLanes = 8;  // PRODUCT_LANES in cl/sim.cl
   uint32_t Tp_ = 0;
   Buffer<cl_int> tets_cm_;
-  Buffer<Real> Dminv_cm_, vol_p_;
+  Buffer<Real> Dminv_cm_, fibre_cm_, vol_p_;
+  bool simd_elements_ = false;
   Buffer<Real> x_, x_prev_, xt_, g_, d_, r_, z_, p_, q_, slots_, dslots_, surfH_, Minv_, elem_, partial_;
   Buffer<float> C_;
   uint32_t nspheres_ = 0;
@@ -433,8 +456,8 @@ class ClSimulator final : public Simulator {
 std::unique_ptr<Simulator> make_cl_simulator(const SimModel& model, const SolverOptions& opt,
                                              const ClSimulatorOptions& cl) {
   const compute::DeviceInfo dev = compute::select_device(cl.device);
-  if (dev.double_support && !cl.single_precision) return std::make_unique<ClSimulator<double>>(model, opt, dev);
-  return std::make_unique<ClSimulator<float>>(model, opt, dev);
+  if (dev.double_support && !cl.single_precision) return std::make_unique<ClSimulator<double>>(model, opt, dev, cl.elements);
+  return std::make_unique<ClSimulator<float>>(model, opt, dev, cl.elements);
 }
 
 }  // namespace facesr

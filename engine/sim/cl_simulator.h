@@ -11,6 +11,13 @@ struct ClSimulatorOptions {
   // Single precision even where the device has fp64 (GPUs without fast
   // doubles). Devices without fp64 always run in single precision.
   bool single_precision = false;
+  // Per-tet kernels (energy, gradient, Hessian): Auto runs eight tets per
+  // work-item, one per vector lane, on CPU devices (PoCL leaves one-tet
+  // kernels scalar) and one tet per work-item on GPUs; Simd and Scalar force
+  // either, so that tests compare both on a CPU device. The stiffness
+  // product is eight-wide on every device.
+  enum class Elements { Auto, Simd, Scalar };
+  Elements elements = Elements::Auto;
 };
 
 // The OpenCL simulator: the same energy (cl/fsr_material.h) and the same
