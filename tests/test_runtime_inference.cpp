@@ -3,11 +3,17 @@
 // load-time upsampling weights against the network's.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
+#include <random>
 
+#include "compute/cl_buffer.h"
+#include "compute/cl_context.h"
+#include "compute/cl_program.h"
 #include "rig/rig_io.h"
 #include "runtime/sr_inference.h"
 #include "sr/sr_geometry.h"
+#include "sr/sr_model.h"
 #include "sr_fixtures.h"
 #include "test_support.h"
 #include "train/model_export.h"
@@ -71,6 +77,21 @@ TEST(RuntimeInference, OpenClMatchesLibTorch) {
   }
 }
 
+// The shipped ICT model (samples/assets/ict.fsm, full size: 2,885 LR nodes,
+// 9,409 HR vertices) through the CPU device's default kernels against
+// LibTorch, on smooth LR displacements of a few millimetres.
+TEST(RuntimeInference, ShippedIctModelOpenClMatchesLibTorch) {
+  const std::string path = std::string(FACESR_TEST_SOURCE_DIR) + "/samples/assets/ict.fsm";
+  const auto m = std::make_shared<SrModel>(load_sr_model(path));
+  const auto lr = lr_frames(*m, 2);
+  const auto ref = TorchPredictor(*m).predict(lr);
+  auto cl = make_cl_inference(m);
+  const double worst = worst_difference(*cl, lr, ref, m->num_hr);
+  std::printf("ICT model: max per-vertex difference %.3g cm\n", worst);
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_GT(ref.abs().max().item<double>(), 1e-2);
+}
+
 // With zero_rest the rest input gives exactly the rest surface in LibTorch,
 // the C++ reference and the OpenCL kernels; the same weights without it do not.
 TEST(RuntimeInference, ZeroRestMapsTheRestInputToTheRestSurface) {
@@ -130,4 +151,33 @@ TEST(RuntimeInference, OpenClProfileNamesEveryStage) {
 }
 
 }  // namespace
+
+// The CPU kernels' SIREN sine (sin16 in cl/sr_infer.cl) against double sin:
+// random arguments over the range SIREN layers produce and beyond, plus
+// multiples of π/2 and the half-way points where the reduction switches k.
+TEST(RuntimeInference, FastSineMatchesSin) {
+  compute::Context ctx;
+  const compute::Program prog = ctx.build_program({"sr_infer.cl"}, "-cl-std=CL1.2");
+  std::vector<float> x;
+  std::mt19937 rng(5);
+  for (const double range : {2.0, 50.0, 1e4}) {
+    std::uniform_real_distribution<double> u(-range, range);
+    for (int i = 0; i < 20000; ++i) x.push_back(float(u(rng)));
+  }
+  for (int k = -200; k <= 200; ++k)
+    for (const double f : {0.0, 0.5, 0.25}) x.push_back(float((k + f) * M_PI));
+  x.push_back(0.0f);
+  x.push_back(-0.0f);
+  x.push_back(1e-30f);
+  while (x.size() % 16) x.push_back(1.0f);
+  compute::Buffer<float> in(ctx, x), out(ctx, x.size());
+  compute::Kernel kern = prog.kernel("sin16_values");
+  kern.args(in, out).run_1d(x.size() / 16);
+  const std::vector<float> y = out.download();
+  double worst = 0;
+  for (size_t i = 0; i < x.size(); ++i) worst = std::max(worst, std::abs(double(y[i]) - std::sin(double(x[i]))));
+  std::printf("max |sin16 - sin| = %.3g over %zu arguments\n", worst, x.size());
+  EXPECT_LT(worst, 2e-7);
+}
+
 }  // namespace facesr

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <map>
 
@@ -241,7 +242,36 @@ class ClSimulator final : public Simulator {
     const auto t0 = std::chrono::steady_clock::now();
     for (int i = 0; i < reps; ++i) product_dot(p_, q_);  // product, gather and p·q: one CG iteration's K·p
     ctx_.finish();
-    return 1e3 * seconds_since(t0) / reps;
+    const double ms = 1e3 * seconds_since(t0) / reps;
+    if (profile_) profile_cg_kernels(reps);
+    return ms;
+  }
+
+  // FACESR_SIM_PROFILE=1: the mean time of each kernel of one CG iteration, alone.
+  void profile_cg_kernels(int reps) {
+    const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes, n = 3 * N;
+    const auto time = [&](const char* name, const std::function<void()>& f) {
+      ctx_.finish();
+      const auto t0 = std::chrono::steady_clock::now();
+      for (int i = 0; i < reps; ++i) f();
+      ctx_.finish();
+      std::fprintf(stderr, "[sim profile] CG kernel %-16s %8.1f us\n", name, 1e6 * seconds_since(t0) / reps);
+    };
+    time("product_tets", [&] { k("product_tets").args(T, Tp_, tets_cm_, p_, Dminv_cm_, vol_p_, C_, slots_).run_1d(Tp_ / kProductLanes, 8); });
+    time("product_surface", [&] { if (S > 0) k("product_surface").args(T, S, p_, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_).run_1d(S, local_); });
+    time("gather_dot", [&] {
+      k("gather_dot").args(N, cur_->offset, cur_->slot, bone_, slots_, q_, p_, partial_, LocalMemory{local_ * sizeof(Real)}).run_1d(N, local_);
+    });
+    time("partials read", [&] { sum_partials(1); });
+    time("cg_update", [&] {
+      k("cg_update").args(N, Real(0), p_, q_, Minv_, d_, r_, z_, partial_, LocalMemory{local_ * sizeof(Real)}, LocalMemory{local_ * sizeof(Real)}).run_1d(N, local_);
+    });
+    time("cg_direction", [&] { k("cg_direction").args(n, Real(0.5), z_, p_).run_1d(n, local_); });
+    time("whole iteration", [&] {
+      product_dot(p_, q_);
+      cg_update(0.0);
+      k("cg_direction").args(n, Real(0.5), z_, p_).run_1d(n, local_);
+    });
   }
 
  private:
