@@ -276,9 +276,9 @@ __kernel void feature_knn(const uint N, const uint D, const uint k, __global con
 }
 
 // feature_knn with explicit SIMD for CPU devices: one work-item takes
-// KNN_QUERIES queries and scans the candidates 16 at a time from the
-// transposed features hT (D × Np, Np = N rounded up to 16, zero-padded), so
-// each step is one 16-wide load shared by its queries. Same distances
+// KNN_QUERIES queries and scans the candidates 32 at a time from the
+// transposed features hT (D × Np, Np = N rounded up to 32, zero-padded), so
+// each step is two 16-wide loads shared by its queries. Same distances
 // formula, same order and ties (candidates in increasing index, strict <).
 #define KNN_QUERIES 8
 
@@ -302,41 +302,54 @@ __kernel void feature_knn_simd(const uint N, const uint Np, const uint D, const 
   ROWS8(QUERY_INDEX)
 #undef QUERY_INDEX
   const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-  for (uint j0 = 0; j0 < Np; j0 += 16) {
-    // Named accumulators (see dense_simd: PoCL keeps no private array in registers).
-    float16 dot[KNN_QUERIES];
-#define ZERO(q) float16 d##q = (float16)(0.0f);
+  for (uint j0 = 0; j0 < Np; j0 += 32) {
+    // Named accumulators (see dense_simd: PoCL keeps no private array in
+    // registers), two 16-wide candidate blocks per query: each step's query
+    // value then feeds two fmas (measured on ICT: 18.4 → 13.5 ms per frame).
+#define ZERO(q) float16 a##q = (float16)(0.0f), b##q = (float16)(0.0f);
     ROWS8(ZERO)
 #undef ZERO
     for (uint c = 0; c < D; ++c) {
       __global const float* row = hT + (size_t)c * Np;
-      const float16 hc = vload16(0, row + j0);
-#define STEP(n) d##n = fma((float16)(row[q##n]), hc, d##n);
+      const float16 ha = vload16(0, row + j0), hb = vload16(0, row + j0 + 16);
+#define STEP(n)                          \
+  {                                      \
+    const float16 v = (float16)(row[q##n]); \
+    a##n = fma(v, ha, a##n);             \
+    b##n = fma(v, hb, b##n);             \
+  }
       ROWS8(STEP)
 #undef STEP
     }
-#define KEEP(q) dot[q] = d##q;
+    float16 dot[2 * KNN_QUERIES];
+#define KEEP(q)          \
+  dot[2 * q] = a##q;     \
+  dot[2 * q + 1] = b##q;
     ROWS8(KEEP)
 #undef KEEP
-    const int16 j = (int)j0 + lane;
-    const float16 sqj = vload16(0, sq + j0);
-    for (uint q = 0; q < KNN_QUERIES; ++q) {
-      float16 d = sqi[q] + sqj - 2.0f * dot[q];
-      d = select(d, (float16)(INFINITY), (j == (int)qi[q]) | (j >= (int)N));
-      if (!any(d < (float16)(bd[q][k - 1]))) continue;
-      float t16[16];
-      vstore16(d, 0, t16);
-      for (uint l = 0; l < 16; ++l) {
-        const float v = t16[l];
-        if (v < bd[q][k - 1]) {
-          int t = (int)k - 1;
-          while (t > 0 && v < bd[q][t - 1]) {
-            bd[q][t] = bd[q][t - 1];
-            bi[q][t] = bi[q][t - 1];
-            --t;
+    // The lower block first: candidates stay in increasing index.
+    for (uint blk = 0; blk < 2; ++blk) {
+      const uint jb = j0 + 16 * blk;
+      const int16 j = (int)jb + lane;
+      const float16 sqj = vload16(0, sq + jb);
+      for (uint q = 0; q < KNN_QUERIES; ++q) {
+        float16 d = sqi[q] + sqj - 2.0f * dot[2 * q + blk];
+        d = select(d, (float16)(INFINITY), (j == (int)qi[q]) | (j >= (int)N));
+        if (!any(d < (float16)(bd[q][k - 1]))) continue;
+        float t16[16];
+        vstore16(d, 0, t16);
+        for (uint l = 0; l < 16; ++l) {
+          const float v = t16[l];
+          if (v < bd[q][k - 1]) {
+            int t = (int)k - 1;
+            while (t > 0 && v < bd[q][t - 1]) {
+              bd[q][t] = bd[q][t - 1];
+              bi[q][t] = bi[q][t - 1];
+              --t;
+            }
+            bd[q][t] = v;
+            bi[q][t] = (int)(jb + l);
           }
-          bd[q][t] = v;
-          bi[q][t] = (int)(j0 + l);
         }
       }
     }

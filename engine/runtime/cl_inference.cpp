@@ -135,7 +135,7 @@ class ClInference final : public SrInference {
     y_ = Buffer<float>(ctx_, size_t(N_) * Dmax);
     pooled_ = Buffer<float>(ctx_, 2 * size_t(Dmax));
     pbias_ = Buffer<float>(ctx_, round16(Dmax));
-    Np_ = round16(N_);
+    Np_ = (N_ + 31) / 32 * 32;  // feature_knn_simd scans 32 candidates per step
     sq_ = Buffer<float>(ctx_, Np_);
     nbr_ = Buffer<cl_int>(ctx_, size_t(N_) * size_t(a.graph_k));
     zero_ = Buffer<float>(ctx_, std::vector<float>(round16(std::max(Dmax, Hmax)), 0.0f), ro);
