@@ -63,6 +63,7 @@ class ClSimulator final : public Simulator {
       inc_[which].slot = Buffer<cl_int>(ctx_, inc.slot, ro);
     }
 
+    build_track_matrix();
     weights_ = Buffer<float>(ctx_, std::max<size_t>(1, m.num_shapes));
     act_ = Buffer<Real>(ctx_, std::max<size_t>(1, m.num_muscles));
     target_ = Buffer<Real>(ctx_, 3 * S);
@@ -106,7 +107,7 @@ class ClSimulator final : public Simulator {
     for (const char* k : {"frame_tet_alpha", "frame_targets", "apply_dirichlet", "tet_energy", "tet_gradient",
                           "tet_hessian", "tet_energy8", "tet_gradient8", "tet_hessian8", "surface_terms", "gather_nodes",
                           "gather_diag_inverse", "precondition", "dot2_partial", "sum_partial",
-                          "cg_direction", "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "cg_update", "tet_inverted", "embed_surface"})
+                          "cg_direction", "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "gather_dot_track", "cg_update", "tet_inverted", "embed_surface"})
       kernels_.emplace(k, prog_.kernel(k));
     reset();
   }
@@ -367,6 +368,13 @@ class ClSimulator final : public Simulator {
   double product_dot(const Buffer<Real>& p, Buffer<Real>& q) {
     const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes;
     k("product_tets").args(T, Tp_, tets_cm_, p, Dminv_cm_, vol_p_, C_, slots_).run_1d(Tp_ / kProductLanes, 8);
+    if (cur_ == &inc_[1]) {  // track springs only: see gather_dot_track
+      k("gather_dot_track")
+          .args(N, track_inc_offset_, track_inc_slot_, L_offset_, L_col_, L_val_, bone_, slots_, q, p, partial_,
+                LocalMemory{local_ * sizeof(Real)})
+          .run_1d(N, local_);
+      return sum_partials(1).first;
+    }
     if (S > 0) k("product_surface").args(T, S, p, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_).run_1d(S, local_);
     k("gather_dot")
         .args(N, cur_->offset, cur_->slot, bone_, slots_, q, p, partial_, LocalMemory{local_ * sizeof(Real)})
@@ -381,6 +389,43 @@ class ClSimulator final : public Simulator {
               LocalMemory{local_ * sizeof(Real)})
         .run_1d(N, local_);
     return sum_partials(2);
+  }
+
+  // The track springs' node matrix L = Σ_v k_v w_v w_vᵀ (CSR; see
+  // gather_dot_track in cl/sim.cl) and the tets-only incidence it goes with.
+  void build_track_matrix() {
+    const size_t N = m_.num_nodes, T = m_.num_tets;
+    std::vector<std::map<int32_t, double>> rows(N);
+    for (int v = 0; v < m_.num_surface; ++v) {
+      const double kt = m_.track_k[v];
+      if (!(kt > 0)) continue;
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b)
+          rows[m_.surf_nodes[4 * v + a]][m_.surf_nodes[4 * v + b]] +=
+              kt * m_.surf_weights[4 * v + a] * m_.surf_weights[4 * v + b];
+    }
+    std::vector<cl_int> offset(N + 1, 0), col, inc_offset(N + 1, 0), inc_slot;
+    std::vector<Real> val;
+    const SimModel::Incidence& inc = m_.inc_tracked;
+    for (size_t v = 0; v < N; ++v) {
+      for (const auto& [u, l] : rows[v]) {
+        col.push_back(u);
+        val.push_back(Real(l));
+      }
+      offset[v + 1] = cl_int(col.size());
+      for (int i = inc.offset[v]; i < inc.offset[v + 1]; ++i)
+        if (size_t(inc.slot[i]) < 4 * T) inc_slot.push_back(inc.slot[i]);
+      inc_offset[v + 1] = cl_int(inc_slot.size());
+    }
+    const cl_mem_flags ro = CL_MEM_READ_ONLY;
+    // OpenCL buffers cannot be empty: pad with an unused entry.
+    if (col.empty()) col.push_back(0), val.push_back(Real(0));
+    if (inc_slot.empty()) inc_slot.push_back(0);
+    L_offset_ = Buffer<cl_int>(ctx_, offset, ro);
+    L_col_ = Buffer<cl_int>(ctx_, col, ro);
+    L_val_ = Buffer<Real>(ctx_, val, ro);
+    track_inc_offset_ = Buffer<cl_int>(ctx_, inc_offset, ro);
+    track_inc_slot_ = Buffer<cl_int>(ctx_, inc_slot, ro);
   }
 
   // Host sum of the per-group partials of a node kernel (1 or 2 interleaved sums).
@@ -469,6 +514,8 @@ class ClSimulator final : public Simulator {
   uint32_t Tp_ = 0;
   Buffer<cl_int> tets_cm_;
   Buffer<Real> Dminv_cm_, fibre_cm_, vol_p_;
+  Buffer<cl_int> L_offset_, L_col_, track_inc_offset_, track_inc_slot_;
+  Buffer<Real> L_val_;
   bool simd_elements_ = false;
   Buffer<Real> x_, x_prev_, xt_, g_, d_, r_, z_, p_, q_, slots_, dslots_, surfH_, Minv_, elem_, partial_;
   Buffer<float> C_;
