@@ -425,11 +425,6 @@ __kernel void sum_partial(const uint n, __global const fsr_real* a, __global fsr
 }
 
 // p = z + β p
-__kernel void cg_direction(const uint n, const fsr_real beta, __global const fsr_real* z, __global fsr_real* p) {
-  const uint i = get_global_id(0);
-  if (i >= n) return;
-  p[i] = z[i] + beta * p[i];
-}
 
 // y = a + s b
 __kernel void axpy_to(const uint n, const fsr_real s, __global const fsr_real* a, __global const fsr_real* b,
@@ -631,30 +626,38 @@ __kernel void gather_dot_track(const uint N, __global const int* inc_offset, __g
   if (lid == 0) partial[get_group_id(0)] = s1[0];
 }
 
-// d += α p, r −= α q, z = M⁻¹ r, and partial sums of r·r and r·z.
-__kernel void cg_update(const uint N, const fsr_real alpha, __global const fsr_real* p, __global const fsr_real* q,
-                        __global const fsr_real* Minv, __global fsr_real* d, __global fsr_real* r,
-                        __global fsr_real* z, __global fsr_real* partial, __local fsr_real* s1,
-                        __local fsr_real* s2) {
+// One iteration's vector work of the single-reduction CG (Chronopoulos and
+// Gear 1989; see ClSimulator::pcg): p = u + β p, s = w + β s (s = K p),
+// d += α p, r −= α s, u = M⁻¹ r, and partial sums of r·r and r·u. With
+// w = K u from the product that follows, all of an iteration's scalars come
+// from one read-back instead of two.
+__kernel void cg_single_update(const uint N, const fsr_real alpha, const fsr_real beta, __global fsr_real* u,
+                               __global const fsr_real* w, __global fsr_real* p, __global fsr_real* s,
+                               __global fsr_real* d, __global fsr_real* r, __global const fsr_real* Minv,
+                               __global fsr_real* partial, __local fsr_real* s1, __local fsr_real* s2) {
   const uint v = get_global_id(0), lid = get_local_id(0);
-  fsr_real rr = 0, rz = 0;
+  fsr_real rr = 0, ru = 0;
   if (v < N) {
     fsr_real rv[3];
     for (int c = 0; c < 3; ++c) {
-      d[3 * v + c] += alpha * p[3 * v + c];
-      rv[c] = r[3 * v + c] - alpha * q[3 * v + c];
-      r[3 * v + c] = rv[c];
+      const size_t i = 3 * (size_t)v + c;
+      const fsr_real pi = u[i] + beta * p[i], si = w[i] + beta * s[i];
+      p[i] = pi;
+      s[i] = si;
+      d[i] += alpha * pi;
+      rv[c] = r[i] - alpha * si;
+      r[i] = rv[c];
     }
     __global const fsr_real* M = Minv + 9 * (size_t)v;
     for (int i = 0; i < 3; ++i) {
-      const fsr_real zi = M[3 * i] * rv[0] + M[3 * i + 1] * rv[1] + M[3 * i + 2] * rv[2];
-      z[3 * v + i] = zi;
+      const fsr_real ui = M[3 * i] * rv[0] + M[3 * i + 1] * rv[1] + M[3 * i + 2] * rv[2];
+      u[3 * v + i] = ui;
       rr += rv[i] * rv[i];
-      rz += rv[i] * zi;
+      ru += rv[i] * ui;
     }
   }
   s1[lid] = rr;
-  s2[lid] = rz;
+  s2[lid] = ru;
   group_sum2(s1, s2);
   if (lid == 0) {
     partial[2 * get_group_id(0)] = s1[0];

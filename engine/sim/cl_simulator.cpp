@@ -69,7 +69,7 @@ class ClSimulator final : public Simulator {
     target_ = Buffer<Real>(ctx_, 3 * S);
     spring_k_ = Buffer<Real>(ctx_, S);
     spring_target_ = Buffer<Real>(ctx_, 3 * S);
-    for (auto* b : {&x_, &x_prev_, &xt_, &g_, &d_, &r_, &z_, &p_, &q_}) *b = Buffer<Real>(ctx_, 3 * N);
+    for (auto* b : {&x_, &x_prev_, &xt_, &g_, &d_, &r_, &z_, &p_, &q_, &s_}) *b = Buffer<Real>(ctx_, 3 * N);
     slots_ = Buffer<Real>(ctx_, 12 * (T + S));
     dslots_ = Buffer<Real>(ctx_, 36 * (T + S));
     // Component-major copies for product_tets (cl/sim.cl): x[k·Tp + t],
@@ -104,10 +104,11 @@ class ClSimulator final : public Simulator {
     groups_ = 64;
     node_groups_ = (N + local_ - 1) / local_;
     partial_ = Buffer<Real>(ctx_, 2 * std::max(groups_, node_groups_));
+    partial2_ = Buffer<Real>(ctx_, 2 * node_groups_);
     for (const char* k : {"frame_tet_alpha", "frame_targets", "apply_dirichlet", "tet_energy", "tet_gradient",
                           "tet_hessian", "tet_energy8", "tet_gradient8", "tet_hessian8", "surface_terms", "gather_nodes",
                           "gather_diag_inverse", "precondition", "dot2_partial", "sum_partial",
-                          "cg_direction", "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "gather_dot_track", "cg_update", "tet_inverted", "embed_surface"})
+                          "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "gather_dot_track", "cg_single_update", "tet_inverted", "embed_surface"})
       kernels_.emplace(k, prog_.kernel(k));
     reset();
   }
@@ -250,7 +251,7 @@ class ClSimulator final : public Simulator {
 
   // FACESR_SIM_PROFILE=1: the mean time of each kernel of one CG iteration, alone.
   void profile_cg_kernels(int reps) {
-    const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes, n = 3 * N;
+    const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes;
     const auto time = [&](const char* name, const std::function<void()>& f) {
       ctx_.finish();
       const auto t0 = std::chrono::steady_clock::now();
@@ -260,18 +261,30 @@ class ClSimulator final : public Simulator {
     };
     time("product_tets", [&] { k("product_tets").args(T, Tp_, tets_cm_, p_, Dminv_cm_, vol_p_, C_, slots_).run_1d(Tp_ / kProductLanes, 8); });
     time("product_surface", [&] { if (S > 0) k("product_surface").args(T, S, p_, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_).run_1d(S, local_); });
+    time("gather_dot_track", [&] {
+      k("gather_dot_track")
+          .args(N, track_inc_offset_, track_inc_slot_, L_offset_, L_col_, L_val_, bone_, slots_, q_, p_, partial_,
+                LocalMemory{local_ * sizeof(Real)})
+          .run_1d(N, local_);
+    });
     time("gather_dot", [&] {
       k("gather_dot").args(N, cur_->offset, cur_->slot, bone_, slots_, q_, p_, partial_, LocalMemory{local_ * sizeof(Real)}).run_1d(N, local_);
     });
     time("partials read", [&] { sum_partials(1); });
-    time("cg_update", [&] {
-      k("cg_update").args(N, Real(0), p_, q_, Minv_, d_, r_, z_, partial_, LocalMemory{local_ * sizeof(Real)}, LocalMemory{local_ * sizeof(Real)}).run_1d(N, local_);
+    time("cg_single_update", [&] {
+      k("cg_single_update")
+          .args(N, Real(0), Real(0.5), z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
+                LocalMemory{local_ * sizeof(Real)})
+          .run_1d(N, local_);
     });
-    time("cg_direction", [&] { k("cg_direction").args(n, Real(0.5), z_, p_).run_1d(n, local_); });
     time("whole iteration", [&] {
-      product_dot(p_, q_);
-      cg_update(0.0);
-      k("cg_direction").args(n, Real(0.5), z_, p_).run_1d(n, local_);
+      k("cg_single_update")
+          .args(N, Real(0), Real(0.5), z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
+                LocalMemory{local_ * sizeof(Real)})
+          .run_1d(N, local_);
+      enqueue_product_dot(z_, q_);
+      sum_partials(1);
+      sum_partials(2, partial2_);
     });
   }
 
@@ -366,6 +379,12 @@ class ClSimulator final : public Simulator {
 
   // q = K p over free nodes; returns p·q.
   double product_dot(const Buffer<Real>& p, Buffer<Real>& q) {
+    enqueue_product_dot(p, q);
+    return sum_partials(1).first;
+  }
+
+  // The same, left in the queue: the partial sums of p·q land in partial_.
+  void enqueue_product_dot(const Buffer<Real>& p, Buffer<Real>& q) {
     const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes;
     k("product_tets").args(T, Tp_, tets_cm_, p, Dminv_cm_, vol_p_, C_, slots_).run_1d(Tp_ / kProductLanes, 8);
     if (cur_ == &inc_[1]) {  // track springs only: see gather_dot_track
@@ -373,22 +392,12 @@ class ClSimulator final : public Simulator {
           .args(N, track_inc_offset_, track_inc_slot_, L_offset_, L_col_, L_val_, bone_, slots_, q, p, partial_,
                 LocalMemory{local_ * sizeof(Real)})
           .run_1d(N, local_);
-      return sum_partials(1).first;
+      return;
     }
     if (S > 0) k("product_surface").args(T, S, p, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_).run_1d(S, local_);
     k("gather_dot")
         .args(N, cur_->offset, cur_->slot, bone_, slots_, q, p, partial_, LocalMemory{local_ * sizeof(Real)})
         .run_1d(N, local_);
-    return sum_partials(1).first;
-  }
-
-  std::pair<double, double> cg_update(double alpha) {
-    const uint32_t N = m_.num_nodes;
-    k("cg_update")
-        .args(N, Real(alpha), p_, q_, Minv_, d_, r_, z_, partial_, LocalMemory{local_ * sizeof(Real)},
-              LocalMemory{local_ * sizeof(Real)})
-        .run_1d(N, local_);
-    return sum_partials(2);
   }
 
   // The track springs' node matrix L = Σ_v k_v w_v w_vᵀ (CSR; see
@@ -429,9 +438,10 @@ class ClSimulator final : public Simulator {
   }
 
   // Host sum of the per-group partials of a node kernel (1 or 2 interleaved sums).
-  std::pair<double, double> sum_partials(int count) {
+  std::pair<double, double> sum_partials(int count) { return sum_partials(count, partial_); }
+  std::pair<double, double> sum_partials(int count, const Buffer<Real>& partial) {
     std::vector<Real> part(count * node_groups_);
-    partial_.download(part.data(), part.size());
+    partial.download(part.data(), part.size());
     double s1 = 0, s2 = 0;
     for (size_t i = 0; i < node_groups_; ++i) {
       s1 += part[count * i];
@@ -463,31 +473,46 @@ class ClSimulator final : public Simulator {
     return s;
   }
 
-  // K d = −g on the free nodes (bone rows are zero in g, q and Minv).
+  // K d = −g on the free nodes (bone rows are zero in g, q and Minv), by
+  // preconditioned CG in the single-reduction form of Chronopoulos and Gear
+  // (1989): the same iterates as textbook PCG in exact arithmetic, but each
+  // iteration's three scalars (r·r, r·u and u·Ku, u = M⁻¹r) are read back
+  // together after its one product, so an iteration waits on the device
+  // once instead of twice; on CPU devices that wait rivals the product.
+  // The price is one extra product per solve (K u0 before the first step).
   int pcg(bool& negative) {
     negative = false;
     const uint32_t n = 3 * m_.num_nodes, N = m_.num_nodes;
     k("scale_to").args(n, Real(-1), g_, r_).run_1d(n, local_);
     k("scale_to").args(n, Real(0), g_, d_).run_1d(n, local_);
-    k("precondition").args(N, Minv_, r_, z_).run_1d(N, local_);
-    k("scale_to").args(n, Real(1), z_, p_).run_1d(n, local_);
-    auto [rr, rz] = dot2(r_, r_, r_, z_);
+    k("scale_to").args(n, Real(0), g_, p_).run_1d(n, local_);
+    k("scale_to").args(n, Real(0), g_, s_).run_1d(n, local_);
+    k("precondition").args(N, Minv_, r_, z_).run_1d(N, local_);  // z_ holds u
+    auto [rr, gamma] = dot2(r_, r_, r_, z_);
     const double bnorm = std::sqrt(rr);
     if (bnorm == 0) return 0;
+    double delta = product_dot(z_, q_);  // q_ holds w = K u
     int it = 0;
+    double alpha = 0, beta = 0, denom = delta;
     while (it < opt_.cg_max) {
-      const double pq = product_dot(p_, q_);
-      if (!(pq > 0)) {
+      // denom = p·Kp for the direction about to be taken.
+      if (!(denom > 0)) {
         negative = true;
         break;
       }
-      const double a = rz / pq;
-      const auto [rr1, rz1] = cg_update(a);
+      alpha = gamma / denom;
+      k("cg_single_update")
+          .args(N, Real(alpha), Real(beta), z_, q_, p_, s_, d_, r_, Minv_, partial2_,
+                LocalMemory{local_ * sizeof(Real)}, LocalMemory{local_ * sizeof(Real)})
+          .run_1d(N, local_);
       ++it;
+      enqueue_product_dot(z_, q_);
+      delta = sum_partials(1).first;  // waits for the update and the product
+      const auto [rr1, gamma1] = sum_partials(2, partial2_);
       if (std::sqrt(rr1) <= opt_.cg_tol * bnorm) break;
-      const double b = rz1 / rz;
-      rz = rz1;
-      k("cg_direction").args(n, Real(b), z_, p_).run_1d(n, local_);
+      beta = gamma1 / gamma;
+      denom = delta - beta * gamma1 / alpha;
+      gamma = gamma1;
     }
     if (it == 0) k("scale_to").args(n, Real(1), z_, d_).run_1d(n, local_);
     return it;
@@ -517,7 +542,7 @@ class ClSimulator final : public Simulator {
   Buffer<cl_int> L_offset_, L_col_, track_inc_offset_, track_inc_slot_;
   Buffer<Real> L_val_;
   bool simd_elements_ = false;
-  Buffer<Real> x_, x_prev_, xt_, g_, d_, r_, z_, p_, q_, slots_, dslots_, surfH_, Minv_, elem_, partial_;
+  Buffer<Real> x_, x_prev_, xt_, g_, d_, r_, z_, p_, q_, s_, partial2_, slots_, dslots_, surfH_, Minv_, elem_, partial_;
   Buffer<float> C_;
   uint32_t nspheres_ = 0;
   size_t local_ = 64, groups_ = 64, node_groups_ = 1;
