@@ -320,8 +320,13 @@ class ClSimulator final : public Simulator {
     for (double kv : in.spring_k) springs = springs || kv > 0;
     cur_ = (springs || nspheres_ > 0) ? &inc_[0] : &inc_[1];
     have_frame_ = true;
-    spring_k_.upload(to_real<Real>(in.spring_k));
-    spring_target_.upload(to_real<Real>(in.spring_target));
+    // Spring arrays are per surface vertex (0.3 MB on ICT): a frame without
+    // springs after one without springs leaves the device's zeros in place.
+    if (springs || springs_on_device_) {
+      spring_k_.upload(to_real<Real>(in.spring_k));
+      spring_target_.upload(to_real<Real>(in.spring_target));
+      springs_on_device_ = springs;
+    }
     const uint32_t T = m_.num_tets, S = m_.num_surface, B = m_.num_shapes;
     k("frame_tet_alpha").args(T, muscle_, act_, alpha_).run_1d(T, local_);
     k("frame_targets").args(S, B, surf_rest_, deltas_, weights_, target_).run_1d(3 * size_t(S), local_);
@@ -547,6 +552,7 @@ class ClSimulator final : public Simulator {
   uint32_t nspheres_ = 0;
   size_t local_ = 64, groups_ = 64, node_groups_ = 1;
   bool have_frame_ = false;
+  bool springs_on_device_ = true;  // until the first upload the buffers hold garbage
   int solved_frames_ = 0;
   bool profile_ = std::getenv("FACESR_SIM_PROFILE") != nullptr;
   std::map<std::string, double> phase_ms_;
