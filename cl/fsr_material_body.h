@@ -282,14 +282,20 @@ FSR_FN void FSR(stress)(const fsr_material* m, const FSR_T* F, const FSR_T* a, F
 }
 
 // Projects a symmetric 3x3 onto the PSD cone (negative eigenvalues → 0).
+// A positive definite H (leading minors > 0: the usual case away from
+// inversion) is returned unchanged, without the eigen-decomposition.
 FSR_FN void FSR(psd3)(FSR_T* H) {
+  const FSR_M pd = H[0] > 0 && H[0] * H[4] - H[1] * H[3] > 0 && FSR(det3)(H) > 0;
+  if (FSR_ALL(pd)) return;
   FSR_T A[9], Q[9], w[3];
   FSR_UNROLL for (int i = 0; i < 9; ++i) A[i] = H[i];
   FSR(sym_eig3)(A, Q, w);
   FSR_UNROLL for (int k = 0; k < 3; ++k) w[k] = FSR_IF(w[k] > 0, w[k], FSR_C(0));
   FSR_UNROLL for (int i = 0; i < 3; ++i)
     FSR_UNROLL for (int j = 0; j < 3; ++j)
-      H[3 * i + j] = Q[3 * i] * w[0] * Q[3 * j] + Q[3 * i + 1] * w[1] * Q[3 * j + 1] + Q[3 * i + 2] * w[2] * Q[3 * j + 2];
+      H[3 * i + j] = FSR_IF(pd, H[3 * i + j],
+                            Q[3 * i] * w[0] * Q[3 * j] + Q[3 * i + 1] * w[1] * Q[3 * j + 1] +
+                                Q[3 * i + 2] * w[2] * Q[3 * j + 2]);
 }
 
 // dP/dF as a 9x9 matrix: δP[r] = Σ_c C[9r + c] δF[c], with r, c = 3i + j.

@@ -249,7 +249,8 @@ class ClSimulator final : public Simulator {
     return ms;
   }
 
-  // FACESR_SIM_PROFILE=1: the mean time of each kernel of one CG iteration, alone.
+  // FACESR_SIM_PROFILE=1: the mean time of each per-frame kernel, alone
+  // (the gradient's, the Hessian's, the line search's, one CG iteration's).
   void profile_cg_kernels(int reps) {
     const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes;
     const auto time = [&](const char* name, const std::function<void()>& f) {
@@ -257,8 +258,26 @@ class ClSimulator final : public Simulator {
       const auto t0 = std::chrono::steady_clock::now();
       for (int i = 0; i < reps; ++i) f();
       ctx_.finish();
-      std::fprintf(stderr, "[sim profile] CG kernel %-16s %8.1f us\n", name, 1e6 * seconds_since(t0) / reps);
+      std::fprintf(stderr, "[sim profile] kernel %-18s %8.1f us\n", name, 1e6 * seconds_since(t0) / reps);
     };
+    time("tet_gradient8", [&] {
+      k("tet_gradient8").args(T, Tp_, mat_, tets_cm_, x_, Dminv_cm_, vol_p_, fibre_cm_, phi_, alpha_, slots_).run_1d(Tp_ / kProductLanes, 8);
+    });
+    time("tet_hessian8", [&] {
+      k("tet_hessian8")
+          .args(T, Tp_, mat_, tets_cm_, x_, Dminv_cm_, vol_p_, fibre_cm_, phi_, alpha_, cl_int(1), C_, dslots_)
+          .run_1d(Tp_ / kProductLanes, 8);
+    });
+    time("tet_energy8", [&] {
+      k("tet_energy8").args(T, Tp_, mat_, tets_cm_, x_, Dminv_cm_, vol_p_, fibre_cm_, phi_, alpha_, elem_).run_1d(Tp_ / kProductLanes, 8);
+    });
+    time("surface_terms(1)", [&] { surface_terms(x_, 1); });
+    time("surface_terms(2)", [&] { surface_terms(x_, 2); });
+    time("gather_nodes", [&] { k("gather_nodes").args(N, cur_->offset, cur_->slot, bone_, slots_, g_).run_1d(N, local_); });
+    time("gather_diag_inv", [&] {
+      k("gather_diag_inverse").args(N, cur_->offset, cur_->slot, bone_, dslots_, Minv_).run_1d(N, local_);
+    });
+    time("sum (energy)", [&] { sum(elem_, T); });
     time("product_tets", [&] { k("product_tets").args(T, Tp_, tets_cm_, p_, Dminv_cm_, vol_p_, C_, slots_).run_1d(Tp_ / kProductLanes, 8); });
     time("product_surface", [&] { if (S > 0) k("product_surface").args(T, S, p_, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_).run_1d(S, local_); });
     time("gather_dot_track", [&] {
