@@ -50,6 +50,7 @@ facesr_status create(const facesr_rig* rig, const facesr_model* model, const fac
   opt.device = device_selector(d);
   opt.solver = d.solver == FACESR_SOLVER_ACCURATE ? SolverOptions{} : realtime_solver();
   opt.cpu_inference = d.inference == FACESR_INFERENCE_CPU;
+  opt.split_device = d.split_device != 0;
   // Past the checks above, what can fail is opening the device, building its
   // kernels or allocating on it.
   return guarded(fn, FACESR_ERROR_DEVICE, [&] {
@@ -74,6 +75,7 @@ facesr_context_def facesr_default_context_def(void) {
   d.device_name = nullptr;
   d.solver = FACESR_SOLVER_REALTIME;
   d.inference = FACESR_INFERENCE_OPENCL;
+  d.split_device = 0;
   return d;
 }
 

@@ -420,13 +420,22 @@ TEST_F(Capi, DefinitionsSmallerThanVersionOneAreInvalid) {
   EXPECT_EQ(def.device_name, nullptr);
   EXPECT_EQ(def.solver, FACESR_SOLVER_REALTIME);
   EXPECT_EQ(def.inference, FACESR_INFERENCE_OPENCL);
+  EXPECT_EQ(def.split_device, 0);
   def.inference = FACESR_INFERENCE_CPU;
   facesr_context* c = nullptr;
-  for (uint32_t bad : {0u, 4u, uint32_t(sizeof def - 4)}) {
+  // Version 1 ended after `inference`; split_device came later.
+  const uint32_t v1 = uint32_t(offsetof(facesr_context_def, inference) + sizeof(int32_t));
+  for (uint32_t bad : {0u, 4u, v1 - 4}) {
     def.struct_size = bad;
     EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_context_create(rig_, model_, &def, &c));
     EXPECT_EQ(c, nullptr);
   }
+  // A version-1 caller: the fields it does not know keep their defaults.
+  def.struct_size = v1;
+  def.split_device = 7;  // beyond its struct_size, so not this caller's: ignored
+  ASSERT_OK(facesr_context_create(rig_, model_, &def, &c));
+  contexts_.push_back(c);
+  def.split_device = 0;
   // A newer caller's bigger definition is read up to what this library knows.
   struct {
     facesr_context_def def;

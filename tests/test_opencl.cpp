@@ -237,6 +237,33 @@ TEST(OpenCL, KernelIncludesAreExpanded) {
   EXPECT_NE(material.find("FSR(svd3)"), std::string::npos);
 }
 
+// Sub-devices: half the compute units each and usable; a device that cannot
+// be split comes back whole; a part out of range is refused.
+TEST(OpenCL, SplitDeviceHalvesComputeUnits) {
+  SKIP_WITHOUT_OPENCL();
+  const fc::DeviceInfo whole = fc::select_device();
+  fc::DeviceSelector sel;
+  sel.parts = 2;
+  sel.part = 1;
+  const fc::DeviceInfo half = fc::select_device(sel);
+  if (whole.compute_units >= 2) {
+    EXPECT_EQ(half.compute_units, whole.compute_units / 2);
+    EXPECT_NE(half.device_name.find("part 2 of 2"), std::string::npos) << half.device_name;
+    EXPECT_TRUE(bool(half.sub_device));
+  } else {
+    EXPECT_EQ(half.device_id, whole.device_id);
+  }
+  fc::Context ctx(half);
+  fc::Kernel saxpy = ctx.build_program({"smoke.cl"}).kernel("saxpy");
+  const cl_uint n = 1000;
+  std::vector<float> x(n, 1.5f), y(n, -2.0f);
+  fc::Buffer<float> dx(ctx, x, CL_MEM_READ_ONLY), dy(ctx, y);
+  saxpy.args(n, 2.0f, dx, dy).run_1d(n, 64);
+  for (float v : dy.download()) ASSERT_EQ(v, 1.0f);
+  sel.part = 2;
+  EXPECT_THROW(fc::select_device(sel), facesr::Error);
+}
+
 TEST(OpenCL, EmptyBufferIsUsable) {
   SKIP_WITHOUT_OPENCL();
   fc::Context ctx;

@@ -7,6 +7,7 @@
 
 #include "perf/performance.h"
 #include "rig/rig_io.h"
+#include "compute/cl_device.h"
 #include "runtime/runtime_context.h"
 #include "sr_fixtures.h"
 #include "test_support.h"
@@ -57,6 +58,37 @@ TEST_F(RuntimeFixture, AsyncSteppingGivesTheSyncSurfacesOneFrameLate) {
   double moved = 0;
   for (size_t i = 0; i < a.back().size(); ++i) moved = std::max(moved, double(std::abs(a.back()[i] - rig_->surface.data()[i])));
   EXPECT_GT(moved, 1e-3);
+}
+
+// split_device: the simulation and the inference on half the device each
+// (sub-devices where the device allows it) give the same surfaces, pipelined,
+// as the whole device stepping synchronously.
+TEST_F(RuntimeFixture, SplitDevicePipelinedGivesTheSameSurfaces) {
+  const auto w = weights(4);
+  RuntimeOptions split_opt;
+  split_opt.split_device = true;
+  RuntimeContext whole(rig_, model_), split(rig_, model_, split_opt);
+  std::printf("split: %s\n", split.device().c_str());
+  if (compute::select_device().compute_units >= 2)
+    EXPECT_NE(split.device().find("part 1 of 2"), std::string::npos) << split.device();
+  std::vector<std::vector<float>> a, b;
+  for (const auto& f : w) {
+    whole.set_weights(f);
+    whole.step();
+    a.push_back(whole.result().positions);
+    split.set_weights(f);
+    split.step_async();
+    if (split.pending() == 2) {
+      split.wait();
+      b.push_back(split.result().positions);
+    }
+  }
+  while (split.pending() > 0) {
+    split.wait();
+    b.push_back(split.result().positions);
+  }
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t f = 0; f < a.size(); ++f) EXPECT_EQ(a[f], b[f]) << "frame " << f;
 }
 
 TEST_F(RuntimeFixture, TwoContextsSharingARigAndModelAgree) {

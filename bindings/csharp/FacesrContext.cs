@@ -32,6 +32,7 @@ namespace Facesr
         public string DeviceName;          // substring of the device or platform name; null: first CPU device
         public Solver Solver = Solver.Realtime;
         public Inference Inference = Inference.OpenCL;
+        public bool SplitDevice;           // half the device each for simulation and inference (faster with StepAsync)
     }
 
     public sealed class Context : IDisposable
@@ -57,6 +58,7 @@ namespace Facesr
                     def.DeviceIndex = options.DeviceIndex;
                     def.Solver = (int)options.Solver;
                     def.Inference = (int)options.Inference;
+                    def.SplitDevice = options.SplitDevice ? 1 : 0;
                     if (options.DeviceName != null)
                     {
                         byte[] utf8 = Utf8.Encode(options.DeviceName, "options.DeviceName");

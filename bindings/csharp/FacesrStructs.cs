@@ -69,6 +69,7 @@ namespace Facesr
         public IntPtr DeviceName;       // NUL-terminated UTF-8, or IntPtr.Zero for the default (first CPU device)
         public int Solver;              // FACESR_SOLVER_*
         public int Inference;           // FACESR_INFERENCE_*
+        public int SplitDevice;         // nonzero: half the device per stage (for StepAsync)
     }
 
     // A spring pulling one surface vertex toward a target. Start from

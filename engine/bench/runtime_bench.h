@@ -22,7 +22,9 @@ struct RuntimeBenchOptions {
 };
 
 // Plays `weights` (per frame, rig order) through a RuntimeContext. JSON keys:
-// lr_step_ms, sr_ms, end_to_end_ms, end_to_end_fps, pipelined_fps,
+// lr_step_ms, sr_ms, end_to_end_ms, end_to_end_fps, pipelined_fps (the
+// better of pipelined_shared_fps, both stages on the whole device, and
+// pipelined_split_fps, half of it each: RuntimeOptions::split_device),
 // hr_step_ms, speedup_vs_hr, plus p95s, the inference's per-stage profile,
 // the device and the sizes.
 nlohmann::json bench_runtime(std::shared_ptr<const Rig> rig, std::shared_ptr<const SrModel> model,

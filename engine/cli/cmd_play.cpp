@@ -26,7 +26,7 @@ namespace {
 
 struct RuntimeArgs {
   std::string rig, model, builtin, performance, device, solver = "realtime";
-  bool cpu_inference = false;
+  bool cpu_inference = false, split_device = false;
   void add(CLI::App* sub) {
     sub->add_option("--rig", rig, "Rig file")->required();
     sub->add_option("--model", model, "Trained network (.fsm) for this rig")->required();
@@ -35,6 +35,9 @@ struct RuntimeArgs {
     sub->add_option("--device", device, "OpenCL device: index, name, cpu or gpu (default: first CPU device)");
     sub->add_option("--solver", solver, "realtime (default) | accurate");
     sub->add_flag("--cpu-inference", cpu_inference, "The C++ reference inference instead of the OpenCL kernels");
+    sub->add_flag("--split-device", split_device,
+                  "Half the device's compute units for the simulation, half for the inference (faster with "
+                  "--async on a CPU, slower without)");
   }
   RuntimeOptions options() const {
     RuntimeOptions o;
@@ -42,6 +45,7 @@ struct RuntimeArgs {
     require(solver == "realtime" || solver == "accurate", "--solver must be realtime or accurate, not '" + solver + "'");
     o.solver = solver == "realtime" ? realtime_solver() : SolverOptions{};
     o.cpu_inference = cpu_inference;
+    o.split_device = split_device;
     return o;
   }
   Performance load(const Rig& rig) const {

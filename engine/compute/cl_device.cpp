@@ -222,11 +222,37 @@ DeviceInfo select_device(const DeviceSelector& sel) {
     throw Error("no OpenCL device matches " + what + "; available devices:" + available_list(devices));
   }
   // Default selection prefers a CPU device; explicit criteria take the first match.
+  const DeviceInfo* chosen = matches.front();
   if (!sel.index && wanted.empty() && sel.type == DeviceType::Any) {
     for (const DeviceInfo* d : matches)
-      if (d->type == DeviceType::Cpu) return *d;
+      if (d->type == DeviceType::Cpu) {
+        chosen = d;
+        break;
+      }
   }
-  return *matches.front();
+  return sel.parts > 1 ? split_device(*chosen, sel.parts, sel.part) : *chosen;
+}
+
+DeviceInfo split_device(const DeviceInfo& device, int parts, int part) {
+  require(part >= 0 && part < parts, "device part " + std::to_string(part) + " is out of range [0, " +
+                                         std::to_string(parts) + ")");
+  const cl_uint per_part = device.compute_units / cl_uint(parts);
+  if (per_part == 0) return device;
+  const cl_device_partition_property props[] = {CL_DEVICE_PARTITION_EQUALLY, cl_device_partition_property(per_part),
+                                                0};
+  std::vector<cl_device_id> subs(size_t(parts) + 1);
+  cl_uint made = 0;
+  if (clCreateSubDevices(device.device_id, props, cl_uint(subs.size()), subs.data(), &made) != CL_SUCCESS)
+    return device;  // no partitioning support: the whole device
+  std::vector<DeviceHandle> owned;
+  for (cl_uint i = 0; i < made; ++i) owned.emplace_back(subs[i]);  // released unless kept below
+  if (made < cl_uint(parts)) return device;
+  DeviceInfo d = device;
+  d.device_id = subs[size_t(part)];
+  d.sub_device = owned[size_t(part)];
+  d.compute_units = per_part;
+  d.device_name += " (part " + std::to_string(part + 1) + " of " + std::to_string(parts) + ")";
+  return d;
 }
 
 }  // namespace facesr::compute

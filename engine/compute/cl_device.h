@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "compute/cl_error.h"
+
 namespace facesr::compute {
 
 enum class DeviceType { Any, Cpu, Gpu, Accelerator, Other };
@@ -33,6 +35,9 @@ struct DeviceInfo {
   bool double_support = false;
   cl_platform_id platform_id = nullptr;
   cl_device_id device_id = nullptr;
+  // Set for a sub-device (DeviceSelector::parts): keeps it alive while any
+  // copy of this info, or a Context made from it, exists.
+  DeviceHandle sub_device;
 };
 
 // One line for logs: "[0] Portable Computing Language / cpu-haswell (cpu, 8 CU)".
@@ -52,6 +57,12 @@ struct DeviceSelector {
   std::optional<int> index;  // global index as in list_devices()
   std::string name;          // case-insensitive substring of device or platform name
   DeviceType type = DeviceType::Any;
+  // parts > 1: split the chosen device into that many sub-devices with equal
+  // compute units (clCreateSubDevices, CL_DEVICE_PARTITION_EQUALLY) and take
+  // number `part` (0-based). A device that cannot be split that way (one
+  // compute unit, or no support: most GPUs) is used whole.
+  int parts = 0;
+  int part = 0;
 
   // CLI syntax: "" (default), "cpu"/"gpu"/"any", a number (index), or a name.
   static DeviceSelector parse(const std::string& spec);
@@ -60,5 +71,8 @@ struct DeviceSelector {
 // Throws Error when nothing matches (listing what is available) or when no
 // OpenCL platform exists (telling the user which package to install).
 DeviceInfo select_device(const DeviceSelector& selector = {});
+// Sub-device `part` of `parts` equal ones (see DeviceSelector::parts), or the
+// device itself when it cannot be split.
+DeviceInfo split_device(const DeviceInfo& device, int parts, int part);
 
 }  // namespace facesr::compute

@@ -64,6 +64,7 @@ class ClHandle {
 };
 
 using ContextHandle = ClHandle<cl_context, clRetainContext, clReleaseContext>;
+using DeviceHandle = ClHandle<cl_device_id, clRetainDevice, clReleaseDevice>;  // sub-devices only
 using QueueHandle = ClHandle<cl_command_queue, clRetainCommandQueue, clReleaseCommandQueue>;
 using MemHandle = ClHandle<cl_mem, clRetainMemObject, clReleaseMemObject>;
 using ProgramHandle = ClHandle<cl_program, clRetainProgram, clReleaseProgram>;

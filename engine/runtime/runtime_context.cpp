@@ -186,12 +186,15 @@ RuntimeContext::RuntimeContext(std::shared_ptr<const Rig> rig, std::shared_ptr<c
   m.lr_model = make_sim_model(*m.rig, Resolution::Low);
   ClSimulatorOptions cl;
   cl.device = opt.device;
+  const bool split = opt.split_device && !opt.cpu_inference;
+  if (split) cl.device.parts = 2, cl.device.part = 0;
   m.sim = make_cl_simulator(m.lr_model, opt.solver, cl);
   if (opt.cpu_inference) {
     m.sr = make_cpu_inference(m.model);
   } else {
     ClInferenceOptions io;
     io.device = opt.device;
+    if (split) io.device.parts = 2, io.device.part = 1;
     m.sr = make_cl_inference(m.model, io);
   }
   m.controls.weights.assign(size_t(m.rig->num_blendshapes()), 0.0f);

@@ -22,6 +22,13 @@ struct RuntimeOptions {
   compute::DeviceSelector device;         // for the LR simulation and the inference
   SolverOptions solver = realtime_solver();
   bool cpu_inference = false;             // the C++ reference inference instead of OpenCL
+  // Give the simulation and the OpenCL inference half of the device's compute
+  // units each (sub-devices; see compute::DeviceSelector::parts), so that
+  // pipelined stepping (step_async) runs frame t's inference and frame t+1's
+  // simulation on separate cores instead of interleaving them on all of them.
+  // Synchronous steps then run each stage on half the device. A device that
+  // cannot be split is shared whole, as without the option.
+  bool split_device = false;
 };
 
 struct FrameResult {

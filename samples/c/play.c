@@ -118,6 +118,8 @@ static facesr_status create_context(const facesr_rig* rig, const facesr_model* m
   facesr_status s;
   def.device_name = o->device;
   def.inference = strcmp(o->inference, "cpu") == 0 ? FACESR_INFERENCE_CPU : FACESR_INFERENCE_OPENCL;
+  /* Pipelined stepping is faster with a core (or half the device) per stage. */
+  def.split_device = o->async;
   s = facesr_context_create(rig, model, &def, ctx);
   if (s == FACESR_ERROR_DEVICE && strcmp(o->inference, "auto") == 0) {
     fprintf(stderr, "facesr_play_c: OpenCL inference unavailable (%s); using the CPU reference\n",

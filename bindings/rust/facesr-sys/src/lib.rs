@@ -88,6 +88,7 @@ pub struct facesr_context_def {
     pub device_name: *const c_char,
     pub solver: i32,
     pub inference: i32,
+    pub split_device: i32,
 }
 
 #[repr(C)]

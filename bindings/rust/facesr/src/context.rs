@@ -36,11 +36,20 @@ pub struct ContextOptions {
     pub device_name: Option<String>,
     pub solver: Solver,
     pub inference: Inference,
+    /// Half the device's compute units each for the simulation and the
+    /// inference (faster with `step_async` on a CPU, slower without).
+    pub split_device: bool,
 }
 
 impl Default for ContextOptions {
     fn default() -> Self {
-        ContextOptions { device_index: None, device_name: None, solver: Solver::Realtime, inference: Inference::OpenCl }
+        ContextOptions {
+            device_index: None,
+            device_name: None,
+            solver: Solver::Realtime,
+            inference: Inference::OpenCl,
+            split_device: false,
+        }
     }
 }
 
@@ -148,6 +157,7 @@ impl Context {
             Inference::OpenCl => sys::FACESR_INFERENCE_OPENCL,
             Inference::Cpu => sys::FACESR_INFERENCE_CPU,
         };
+        def.split_device = i32::from(options.split_device);
         // Lives until facesr_context_create returns (the library copies it).
         let name = match &options.device_name {
             Some(n) => Some(
