@@ -148,11 +148,13 @@ typedef struct facesr_context_def {
   /* Added after version 1 of this struct (older callers get 0). Nonzero: the
      simulation and the OpenCL inference get half of the device's compute
      units each (OpenCL sub-devices), so that facesr_step_async runs frame t's
-     super-resolution and frame t+1's simulation on separate cores; on a
-     2-core CPU that raised pipelined throughput on ICT from 14.4 to 15.9
-     FPS. Synchronous steps then run each stage on half the device, so leave
-     it 0 unless stepping asynchronously. Ignored where the device cannot be
-     split (one compute unit; most GPUs). */
+     super-resolution and frame t+1's simulation on separate cores. It pays
+     when the two stages cost about the same on half the device: on a 2-core
+     CPU the procedural head's pipelined rate rose from 47 to 52 FPS, while
+     on ICT, whose inference is the larger stage, it measured between 10 %
+     slower and 5 % faster. Synchronous steps then run each stage on half the
+     device, so leave it 0 unless stepping asynchronously and measured.
+     Ignored where the device cannot be split (one compute unit; most GPUs). */
   int32_t split_device;
 } facesr_context_def;
 

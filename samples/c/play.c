@@ -3,7 +3,7 @@
  * writes the animated high-resolution surface as a glTF 2.0 file.
  *
  *   facesr_play_c --rig R.rig --model M.fsm --performance P.json --out anim.gltf
- *                 [--frames N] [--async] [--inference auto|opencl|cpu] [--device NAME]
+ *                 [--frames N] [--async] [--split-device] [--inference auto|opencl|cpu] [--device NAME]
  *                 [--dump-positions frames.bin]
  */
 #include <stdio.h>
@@ -21,15 +21,18 @@ typedef struct options {
   const char* dump; /* --dump-positions: raw float32 of every frame, or NULL */
   int max_frames; /* -1: the whole performance */
   int async;
+  int split_device; /* --split-device: half the device per stage (see facesr_context_def) */
 } options;
 
 static void usage(FILE* f) {
   fprintf(f,
           "usage: facesr_play_c --rig R.rig --model M.fsm --performance P.json --out anim.gltf\n"
-          "                     [--frames N] [--async] [--inference auto|opencl|cpu] [--device NAME]\n"
+          "                     [--frames N] [--async] [--split-device] [--inference auto|opencl|cpu]\n"
+          "                     [--device NAME]\n"
           "                     [--dump-positions frames.bin]\n"
           "  --frames N     play at most the first N frames\n"
           "  --async        pipelined stepping (step_async + wait, one frame of latency)\n"
+          "  --split-device half the device for the simulation, half for the inference\n"
           "  --inference    auto (default): OpenCL, else the CPU reference; or force one\n"
           "  --device NAME  OpenCL device (substring of device or platform name; default: first CPU)\n"
           "  --dump-positions FILE  also write every frame's positions as raw little-endian float32\n"
@@ -49,6 +52,8 @@ static int parse_args(int argc, char** argv, options* o) {
       exit(0);
     } else if (strcmp(a, "--async") == 0) {
       o->async = 1;
+    } else if (strcmp(a, "--split-device") == 0) {
+      o->split_device = 1;
       continue;
     } else if (strcmp(a, "--rig") == 0) {
       value = &o->rig;
@@ -118,8 +123,7 @@ static facesr_status create_context(const facesr_rig* rig, const facesr_model* m
   facesr_status s;
   def.device_name = o->device;
   def.inference = strcmp(o->inference, "cpu") == 0 ? FACESR_INFERENCE_CPU : FACESR_INFERENCE_OPENCL;
-  /* Pipelined stepping is faster with a core (or half the device) per stage. */
-  def.split_device = o->async;
+  def.split_device = o->split_device;
   s = facesr_context_create(rig, model, &def, ctx);
   if (s == FACESR_ERROR_DEVICE && strcmp(o->inference, "auto") == 0) {
     fprintf(stderr, "facesr_play_c: OpenCL inference unavailable (%s); using the CPU reference\n",
