@@ -177,6 +177,38 @@ __kernel void edge_max(const uint N, const uint D, const uint k, __global const 
 
 // Global max and mean over the nodes of each column of y (N × D):
 // pooled[c] = max, pooled[D + c] = mean. One work-group per column.
+// edge_max and pool_columns for CPU devices, 16 channels per work-item (D
+// a multiple of 16): the per-element versions loop over neighbours or rows,
+// which PoCL leaves scalar. edge_max_simd does the same operations per lane
+// (bit-identical); pool_columns_simd sums each column in row order.
+__kernel void edge_max_simd(const uint N, const uint D, const uint k, __global const float* self,
+                            __global const float* other, __global const int* nbr, const float slope,
+                            __global float* y) {
+  const uint blocks = D / 16, id = get_global_id(0);
+  const uint i = id / blocks, c0 = (id % blocks) * 16;
+  if (i >= N) return;
+  const float16 s = vload16(0, self + (size_t)i * D + c0);
+  float16 best = (float16)(-INFINITY);
+  for (uint q = 0; q < k; ++q) {
+    const float16 v = s + vload16(0, other + (size_t)nbr[(size_t)i * k + q] * D + c0);
+    best = fmax(best, select(v, v * slope, v < (float16)(0.0f)));
+  }
+  vstore16(best, 0, y + (size_t)i * D + c0);
+}
+
+__kernel void pool_columns_simd(const uint N, const uint D, __global const float* y, __global float* pooled) {
+  const uint c0 = get_global_id(0) * 16;
+  if (c0 >= D) return;
+  float16 m = (float16)(-INFINITY), s = (float16)(0.0f);
+  for (uint i = 0; i < N; ++i) {
+    const float16 v = vload16(0, y + (size_t)i * D + c0);
+    m = fmax(m, v);
+    s += v;
+  }
+  vstore16(m, 0, pooled + c0);
+  vstore16(s / (float)N, 0, pooled + D + c0);
+}
+
 __kernel void pool_columns(const uint N, const uint D, __global const float* y, __global float* pooled,
                            __local float* smax, __local float* ssum) {
   const uint c = get_group_id(0), lid = get_local_id(0), L = get_local_size(0);

@@ -65,7 +65,7 @@ class ClInference final : public SrInference {
     const bool cpu_device = ctx_.device().type != compute::DeviceType::Gpu;
     simd_ = opt.kernels == ClKernels::Auto ? cpu_device : opt.kernels == ClKernels::Simd;
     knn_ = opt.knn != ClKnn::Auto ? opt.knn : cpu_device ? ClKnn::Simd : ClKnn::Full;
-    for (const char* k : {"sr_input", "dense_simd", "dense_tiled", "edge_max", "pool_columns", "pooled_bias",
+    for (const char* k : {"sr_input", "dense_simd", "dense_tiled", "edge_max", "edge_max_simd", "pool_columns", "pool_columns_simd", "pooled_bias",
                           "row_sqnorm", "feature_knn", "feature_knn_simd", "feature_knn_pruned", "transpose_columns",
                           "copy_columns", "add_embedded", "upsample_features", "upsample_features_simd"})
       kernels_.emplace(k, prog_.kernel(k));
@@ -192,11 +192,19 @@ class ClInference final : public SrInference {
       }
       dense(N_, b.self, enc_, C_, b.in_off, enc_, C_, 0, b.self.b, self_, b.D, 0, kNone);
       dense(N_, b.other, enc_, C_, b.in_off, enc_, C_, 0, zero_, other_, b.D, 0, kNone);
-      k("edge_max").args(N_, b.D, k_nn, self_, other_, *nbr, slope, y_).run_1d(size_t(N_) * b.D, 64);
+      const bool simd_cols = simd_ && b.D % 16 == 0;
+      if (simd_cols)
+        k("edge_max_simd").args(N_, b.D, k_nn, self_, other_, *nbr, slope, y_).run_1d(size_t(N_) * (b.D / 16), 16);
+      else
+        k("edge_max").args(N_, b.D, k_nn, self_, other_, *nbr, slope, y_).run_1d(size_t(N_) * b.D, 64);
       stage("edgeconv");
-      k("pool_columns")
-          .args(N_, b.D, y_, pooled_, LocalMemory{pool_local_ * sizeof(float)}, LocalMemory{pool_local_ * sizeof(float)})
-          .run_1d(size_t(b.D) * pool_local_, pool_local_);
+      if (simd_cols)
+        k("pool_columns_simd").args(N_, b.D, y_, pooled_).run_1d(b.D / 16, 1);
+      else
+        k("pool_columns")
+            .args(N_, b.D, y_, pooled_, LocalMemory{pool_local_ * sizeof(float)},
+                  LocalMemory{pool_local_ * sizeof(float)})
+            .run_1d(size_t(b.D) * pool_local_, pool_local_);
       k("pooled_bias").args(b.D, b.in, b.W_fc, b.b_fc, pooled_, pbias_).run_1d(b.D, 64);
       dense(N_, b.node, y_, b.D, 0, enc_, C_, b.in_off, pbias_, enc_, C_, b.out_off, kLeaky, 0, b.in);
       stage("pool + shared fc");
