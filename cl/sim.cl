@@ -238,6 +238,39 @@ __kernel void tet_hessian8(const uint T, const uint Tp, __global const fsr_real*
   store_tets8(T, t0, 36, D, dslots);
 }
 
+// frame_targets for CPU devices: 8 consecutive values per work-item, each
+// shape's deltas read as one 8-wide load (the one-value kernel's loop over
+// shapes is scalar code on PoCL). Same sum, same order.
+__kernel void frame_targets8(const uint S, const uint B, __global const fsr_real* surf_rest,
+                             __global const float* deltas, __global const float* weights,
+                             __global fsr_real* target) {
+  const uint i0 = get_global_id(0) * 8, n = 3 * S;
+  if (i0 >= n) return;
+  if (i0 + 8 > n) {  // the tail, one value at a time
+    for (uint i = i0; i < n; ++i) {
+      fsr_real v = surf_rest[i];
+      for (uint b = 0; b < B; ++b) {
+        const float w = weights[b];
+        if (w != 0.0f) v += (fsr_real)w * (fsr_real)deltas[(size_t)b * n + i];
+      }
+      target[i] = v;
+    }
+    return;
+  }
+#ifdef FSR_REAL_FLOAT
+#define TO_REAL8(x) (x)
+#else
+#define TO_REAL8(x) convert_double8(x)
+#endif
+  preal v = vload8(0, surf_rest + i0);
+  for (uint b = 0; b < B; ++b) {
+    const float w = weights[b];
+    if (w != 0.0f) v += (fsr_real)w * TO_REAL8(vload8(0, deltas + (size_t)b * n + i0));
+  }
+#undef TO_REAL8
+  vstore8(v, 0, target + i0);
+}
+
 // External terms at one embedded surface point: track spring, point spring,
 // sphere penalties. mode 0: energy → e[v]; 1: gradient → slots; 2: Hessian
 // with the definiteness fix (the spheres' negative curvature term dropped),

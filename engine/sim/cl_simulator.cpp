@@ -105,7 +105,7 @@ class ClSimulator final : public Simulator {
     node_groups_ = (N + local_ - 1) / local_;
     partial_ = Buffer<Real>(ctx_, 2 * std::max(groups_, node_groups_));
     partial2_ = Buffer<Real>(ctx_, 2 * node_groups_);
-    for (const char* k : {"frame_tet_alpha", "frame_targets", "apply_dirichlet", "tet_energy", "tet_gradient",
+    for (const char* k : {"frame_tet_alpha", "frame_targets", "frame_targets8", "apply_dirichlet", "tet_energy", "tet_gradient",
                           "tet_hessian", "tet_energy8", "tet_gradient8", "tet_hessian8", "surface_terms", "gather_nodes",
                           "gather_diag_inverse", "precondition", "dot2_partial", "sum_partial",
                           "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "gather_dot_track", "cg_single_update", "tet_inverted", "embed_surface"})
@@ -348,7 +348,10 @@ class ClSimulator final : public Simulator {
     }
     const uint32_t T = m_.num_tets, S = m_.num_surface, B = m_.num_shapes;
     k("frame_tet_alpha").args(T, muscle_, act_, alpha_).run_1d(T, local_);
-    k("frame_targets").args(S, B, surf_rest_, deltas_, weights_, target_).run_1d(3 * size_t(S), local_);
+    if (simd_elements_)
+      k("frame_targets8").args(S, B, surf_rest_, deltas_, weights_, target_).run_1d((3 * size_t(S) + 7) / 8, 8);
+    else
+      k("frame_targets").args(S, B, surf_rest_, deltas_, weights_, target_).run_1d(3 * size_t(S), local_);
   }
 
   void apply_dirichlet(const Buffer<Real>& from, Buffer<Real>& to) {
