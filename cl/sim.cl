@@ -593,39 +593,14 @@ __kernel void product_surface(const uint T, const uint S, __global const fsr_rea
     for (int c = 0; c < 3; ++c) out[3 * k + c] = w[k] * hq[c];
 }
 
-// q = gathered slots (bone nodes 0), and partial sums of p·q.
+// q = gathered slots + L p (bone nodes 0), and partial sums of p·q. L is
+// for frames whose only surface terms are the track springs (no point
+// springs or spheres): each tracked vertex's Hessian is then k·I, so the
+// springs' share of K is L ⊗ I with L = Σ_v k_v w_v w_vᵀ over the embedding
+// weights, a fixed node × node matrix (CSR, built at load); folding it in
+// here removes the per-vertex product_surface pass and its slots. Other
+// frames pass an empty L and the surface vertices' slots.
 __kernel void gather_dot(const uint N, __global const int* inc_offset, __global const int* inc_slot,
-                         __global const uchar* bone, __global const fsr_real* slots, __global fsr_real* q,
-                         __global const fsr_real* p, __global fsr_real* partial, __local fsr_real* s1) {
-  const uint v = get_global_id(0), lid = get_local_id(0);
-  fsr_real acc = 0;
-  if (v < N) {
-    fsr_real s0 = 0, sa = 0, sb = 0;
-    if (bone[v] == 0) {
-      for (int i = inc_offset[v]; i < inc_offset[v + 1]; ++i) {
-        __global const fsr_real* s = SLOT3(slots, inc_slot[i]);
-        s0 += s[0];
-        sa += s[1];
-        sb += s[2];
-      }
-    }
-    q[3 * v] = s0;
-    q[3 * v + 1] = sa;
-    q[3 * v + 2] = sb;
-    acc = p[3 * v] * s0 + p[3 * v + 1] * sa + p[3 * v + 2] * sb;
-  }
-  s1[lid] = acc;
-  group_sum(s1);
-  if (lid == 0) partial[get_group_id(0)] = s1[0];
-}
-
-// gather_dot for frames whose only surface terms are the track springs (no
-// point springs or spheres): each tracked vertex's Hessian is then k·I, so
-// the springs' share of K is L ⊗ I with L = Σ_v k_v w_v w_vᵀ over the
-// embedding weights, a fixed node × node matrix (CSR, built at load). Its
-// product is folded in here, which removes the per-vertex product_surface
-// pass and its slots; only the tets' slots are gathered.
-__kernel void gather_dot_track(const uint N, __global const int* inc_offset, __global const int* inc_slot,
                                __global const int* L_offset, __global const int* L_col,
                                __global const fsr_real* L_val, __global const uchar* bone,
                                __global const fsr_real* slots, __global fsr_real* q, __global const fsr_real* p,

@@ -54,7 +54,7 @@ INSTANTIATE_TEST_SUITE_P(Kernels, SimOpenCLElements,
                          });
 
 // With a point spring the CG product runs per surface vertex; without one
-// the track springs' share is the fixed node matrix (gather_dot_track).
+// the track springs' share is the fixed node matrix (the L matrix of gather_dot in cl/sim.cl).
 TEST_P(SimOpenCLElements, ConvergedPositionsMatchCpuReference) {
   const SimModel m = make_sim_model(fixtures::procedural_rig(), Resolution::Low);
   SolverOptions opt;

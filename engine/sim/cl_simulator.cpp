@@ -108,7 +108,7 @@ class ClSimulator final : public Simulator {
     for (const char* k : {"frame_tet_alpha", "frame_targets", "frame_targets8", "apply_dirichlet", "tet_energy", "tet_gradient",
                           "tet_hessian", "tet_energy8", "tet_gradient8", "tet_hessian8", "surface_terms", "gather_nodes",
                           "gather_diag_inverse", "precondition", "dot2_partial", "sum_partial",
-                          "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "gather_dot_track", "cg_single_update", "tet_inverted", "embed_surface"})
+                          "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "cg_single_update", "tet_inverted", "embed_surface"})
       kernels_.emplace(k, prog_.kernel(k));
     reset();
   }
@@ -280,14 +280,17 @@ class ClSimulator final : public Simulator {
     time("sum (energy)", [&] { sum(elem_, T); });
     time("product_tets", [&] { k("product_tets").args(T, Tp_, tets_cm_, p_, Dminv_cm_, vol_p_, C_, slots_).run_1d(Tp_ / kProductLanes, 8); });
     time("product_surface", [&] { if (S > 0) k("product_surface").args(T, S, p_, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_).run_1d(S, local_); });
-    time("gather_dot_track", [&] {
-      k("gather_dot_track")
+    time("gather_dot (track)", [&] {
+      k("gather_dot")
           .args(N, track_inc_offset_, track_inc_slot_, L_offset_, L_col_, L_val_, bone_, slots_, q_, p_, partial_,
                 LocalMemory{local_ * sizeof(Real)})
           .run_1d(N, local_);
     });
-    time("gather_dot", [&] {
-      k("gather_dot").args(N, cur_->offset, cur_->slot, bone_, slots_, q_, p_, partial_, LocalMemory{local_ * sizeof(Real)}).run_1d(N, local_);
+    time("gather_dot (slots)", [&] {
+      k("gather_dot")
+          .args(N, cur_->offset, cur_->slot, L_none_offset_, L_col_, L_val_, bone_, slots_, q_, p_, partial_,
+                LocalMemory{local_ * sizeof(Real)})
+          .run_1d(N, local_);
     });
     time("partials read", [&] { sum_partials(1); });
     time("cg_single_update", [&] {
@@ -414,8 +417,8 @@ class ClSimulator final : public Simulator {
   void enqueue_product_dot(const Buffer<Real>& p, Buffer<Real>& q) {
     const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes;
     k("product_tets").args(T, Tp_, tets_cm_, p, Dminv_cm_, vol_p_, C_, slots_).run_1d(Tp_ / kProductLanes, 8);
-    if (cur_ == &inc_[1]) {  // track springs only: see gather_dot_track
-      k("gather_dot_track")
+    if (cur_ == &inc_[1]) {  // track springs only: see gather_dot
+      k("gather_dot")
           .args(N, track_inc_offset_, track_inc_slot_, L_offset_, L_col_, L_val_, bone_, slots_, q, p, partial_,
                 LocalMemory{local_ * sizeof(Real)})
           .run_1d(N, local_);
@@ -423,12 +426,13 @@ class ClSimulator final : public Simulator {
     }
     if (S > 0) k("product_surface").args(T, S, p, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_).run_1d(S, local_);
     k("gather_dot")
-        .args(N, cur_->offset, cur_->slot, bone_, slots_, q, p, partial_, LocalMemory{local_ * sizeof(Real)})
+        .args(N, cur_->offset, cur_->slot, L_none_offset_, L_col_, L_val_, bone_, slots_, q, p, partial_,
+              LocalMemory{local_ * sizeof(Real)})
         .run_1d(N, local_);
   }
 
   // The track springs' node matrix L = Σ_v k_v w_v w_vᵀ (CSR; see
-  // gather_dot_track in cl/sim.cl) and the tets-only incidence it goes with.
+  // gather_dot in cl/sim.cl) and the tets-only incidence it goes with.
   void build_track_matrix() {
     const size_t N = m_.num_nodes, T = m_.num_tets;
     std::vector<std::map<int32_t, double>> rows(N);
@@ -458,6 +462,7 @@ class ClSimulator final : public Simulator {
     if (col.empty()) col.push_back(0), val.push_back(Real(0));
     if (inc_slot.empty()) inc_slot.push_back(0);
     L_offset_ = Buffer<cl_int>(ctx_, offset, ro);
+    L_none_offset_ = Buffer<cl_int>(ctx_, std::vector<cl_int>(N + 1, 0), ro);
     L_col_ = Buffer<cl_int>(ctx_, col, ro);
     L_val_ = Buffer<Real>(ctx_, val, ro);
     track_inc_offset_ = Buffer<cl_int>(ctx_, inc_offset, ro);
@@ -566,7 +571,7 @@ class ClSimulator final : public Simulator {
   uint32_t Tp_ = 0;
   Buffer<cl_int> tets_cm_;
   Buffer<Real> Dminv_cm_, fibre_cm_, vol_p_;
-  Buffer<cl_int> L_offset_, L_col_, track_inc_offset_, track_inc_slot_;
+  Buffer<cl_int> L_offset_, L_none_offset_, L_col_, track_inc_offset_, track_inc_slot_;
   Buffer<Real> L_val_;
   bool simd_elements_ = false;
   Buffer<Real> x_, x_prev_, xt_, g_, d_, r_, z_, p_, q_, s_, partial2_, slots_, dslots_, surfH_, Minv_, elem_, partial_;

@@ -52,6 +52,7 @@ static int parse_args(int argc, char** argv, options* o) {
       exit(0);
     } else if (strcmp(a, "--async") == 0) {
       o->async = 1;
+      continue;
     } else if (strcmp(a, "--split-device") == 0) {
       o->split_device = 1;
       continue;
