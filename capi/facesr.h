@@ -149,11 +149,11 @@ typedef struct facesr_context_def {
      simulation and the OpenCL inference get half of the device's compute
      units each (OpenCL sub-devices), so that facesr_step_async runs frame t's
      super-resolution and frame t+1's simulation on separate cores. It pays
-     when the two stages cost about the same on half the device: on a 2-core
-     CPU the procedural head's pipelined rate rose from 47 to 52 FPS, while
-     on ICT, whose inference is the larger stage, it measured between 10 %
-     slower and 5 % faster. Synchronous steps then run each stage on half the
-     device, so leave it 0 unless stepping asynchronously and measured.
+     only when the two stages cost about the same on half the device: on a
+     2-core CPU it measured from 20 % slower to 15 % faster depending on the
+     rig and the program (docs/runtime.md). Synchronous steps then run each
+     stage on half the device, so leave it 0 unless stepping asynchronously
+     and measured.
      Ignored where the device cannot be split (one compute unit; most GPUs). */
   int32_t split_device;
 } facesr_context_def;
