@@ -502,6 +502,40 @@ TEST_F(Capi, TwoContextsOnTwoThreadsShareOneRigAndModel) {
   EXPECT_GT(max_diff(pa[kFrames - 1], pa[0]), 0.01) << "the controls should move the face";
 }
 
+// split_device through the ABI: half the device each for the simulation and
+// the OpenCL inference, stepped asynchronously, gives the surfaces of a
+// whole-device context stepped synchronously.
+TEST_F(Capi, SplitDeviceAsyncGivesTheSyncSurfaces) {
+  facesr_context* sync = context(FACESR_INFERENCE_OPENCL);
+  ASSERT_TRUE(sync);
+  facesr_context_def def = facesr_default_context_def();
+  def.inference = FACESR_INFERENCE_OPENCL;
+  def.split_device = 1;
+  facesr_context* split = nullptr;
+  ASSERT_OK(facesr_context_create(rig_, model_, &def, &split));
+  contexts_.push_back(split);
+  constexpr int kFrames = 4;
+  std::vector<std::vector<float>> want, got;
+  int64_t frame = -1;
+  int32_t pending = 0;
+  for (int f = 0; f < kFrames; ++f) {
+    set_controls(sync, f);
+    ASSERT_OK(facesr_step(sync));
+    want.push_back(positions(sync));
+    set_controls(split, f);
+    ASSERT_OK(facesr_step_async(split));
+    ASSERT_OK(facesr_pending_frames(split, &pending));
+    if (pending == 2) {
+      ASSERT_OK(facesr_wait(split, &frame));
+      got.push_back(positions(split));
+    }
+  }
+  ASSERT_OK(facesr_wait(split, &frame));
+  got.push_back(positions(split));
+  ASSERT_EQ(got.size(), want.size());
+  for (size_t f = 0; f < want.size(); ++f) EXPECT_EQ(got[f], want[f]) << "frame " << f;
+}
+
 TEST_F(Capi, AsyncSteppingGivesTheSyncSurfaces) {
   facesr_context* sync = context();
   facesr_context* async = context();
