@@ -20,17 +20,21 @@ __kernel void frame_tet_alpha(const uint T, __global const int* muscle, __global
 }
 
 // Track targets: rest embedding plus the linear blendshape offsets.
+fsr_real target_value(const uint i, const uint n, const uint B, __global const fsr_real* surf_rest,
+                      __global const float* deltas, __global const float* weights) {
+  fsr_real v = surf_rest[i];
+  for (uint b = 0; b < B; ++b) {
+    const float w = weights[b];
+    if (w != 0.0f) v += (fsr_real)w * (fsr_real)deltas[(size_t)b * n + i];
+  }
+  return v;
+}
+
 __kernel void frame_targets(const uint S, const uint B, __global const fsr_real* surf_rest,
                             __global const float* deltas, __global const float* weights,
                             __global fsr_real* target) {
   const uint i = get_global_id(0);
-  if (i >= 3 * S) return;
-  fsr_real v = surf_rest[i];
-  for (uint b = 0; b < B; ++b) {
-    const float w = weights[b];
-    if (w != 0.0f) v += (fsr_real)w * (fsr_real)deltas[(size_t)b * 3 * S + i];
-  }
-  target[i] = v;
+  if (i < 3 * S) target[i] = target_value(i, 3 * S, B, surf_rest, deltas, weights);
 }
 
 // Bone nodes to their prescribed positions: cranium at rest, jaw moved rigidly.
@@ -157,9 +161,9 @@ typedef long8 pmask;
 #undef FSR_ALL
 #undef FSR_M
 
-void load_tets8(uint t0, uint Tp, __global const int* tets_cm, __global const fsr_real* x,
-                __global const fsr_real* Dminv_cm, __global const fsr_real* fibre_cm, preal* xc, preal* Dm,
-                preal* a) {
+// The 4 corners' node vectors (x: node × 3) of tets t0..t0+7, corner-major
+// per lane: xc[3k + c] is component c of corner k.
+void gather_corners8(uint t0, uint Tp, __global const int* tets_cm, __global const fsr_real* x, preal* xc) {
   #pragma unroll
   for (int k = 0; k < 4; ++k) {
     const int8 n = 3 * vload8(0, tets_cm + (size_t)k * Tp + t0);
@@ -168,6 +172,12 @@ void load_tets8(uint t0, uint Tp, __global const int* tets_cm, __global const fs
       xc[3 * k + c] = (preal)(x[n.s0 + c], x[n.s1 + c], x[n.s2 + c], x[n.s3 + c], x[n.s4 + c], x[n.s5 + c],
                               x[n.s6 + c], x[n.s7 + c]);
   }
+}
+
+void load_tets8(uint t0, uint Tp, __global const int* tets_cm, __global const fsr_real* x,
+                __global const fsr_real* Dminv_cm, __global const fsr_real* fibre_cm, preal* xc, preal* Dm,
+                preal* a) {
+  gather_corners8(t0, Tp, tets_cm, x, xc);
   #pragma unroll
   for (int k = 0; k < 9; ++k) Dm[k] = pload(Dminv_cm + (size_t)k * Tp + t0);
   #pragma unroll
@@ -247,14 +257,7 @@ __kernel void frame_targets8(const uint S, const uint B, __global const fsr_real
   const uint i0 = get_global_id(0) * 8, n = 3 * S;
   if (i0 >= n) return;
   if (i0 + 8 > n) {  // the tail, one value at a time
-    for (uint i = i0; i < n; ++i) {
-      fsr_real v = surf_rest[i];
-      for (uint b = 0; b < B; ++b) {
-        const float w = weights[b];
-        if (w != 0.0f) v += (fsr_real)w * (fsr_real)deltas[(size_t)b * n + i];
-      }
-      target[i] = v;
-    }
+    for (uint i = i0; i < n; ++i) target[i] = target_value(i, n, B, surf_rest, deltas, weights);
     return;
   }
 #ifdef FSR_REAL_FLOAT
@@ -520,27 +523,11 @@ __kernel void product_tets(const uint T, const uint Tp, __global const int* tets
                            __global const float* C_cm, __global fsr_real* slots) {
   const uint t0 = get_global_id(0) * PRODUCT_LANES;
   if (t0 >= T) return;
-  // Corner positions' differences to corner 0, per lane: Ds = [p1 − p0, p2 − p0, p3 − p0].
-  preal pc[12];
-  #pragma unroll
-  for (int k = 0; k < 4; ++k) {
-    const int8 n = 3 * vload8(0, tets_cm + (size_t)k * Tp + t0);
-    #pragma unroll
-    for (int c = 0; c < 3; ++c)
-      pc[3 * k + c] = (preal)(p[n.s0 + c], p[n.s1 + c], p[n.s2 + c], p[n.s3 + c], p[n.s4 + c], p[n.s5 + c],
-                              p[n.s6 + c], p[n.s7 + c]);
-  }
-  preal Ds[9], Dm[9], dF[9], dP[9];
-  #pragma unroll
-  for (int i = 0; i < 3; ++i)
-    #pragma unroll
-    for (int j = 0; j < 3; ++j) Ds[3 * i + j] = pc[3 * (j + 1) + i] - pc[i];
+  preal pc[12], Dm[9], dF[9], dP[9], y[12];
+  gather_corners8(t0, Tp, tets_cm, p, pc);
   #pragma unroll
   for (int k = 0; k < 9; ++k) Dm[k] = pload(Dminv_cm + (size_t)k * Tp + t0);
-  #pragma unroll
-  for (int i = 0; i < 3; ++i)
-    #pragma unroll
-    for (int j = 0; j < 3; ++j) dF[3 * i + j] = Ds[3 * i] * Dm[j] + Ds[3 * i + 1] * Dm[3 + j] + Ds[3 * i + 2] * Dm[6 + j];
+  fsr8_tet_F(pc, Dm, dF);
   __global const float* C = C_cm + t0;
   #pragma unroll
   for (int r = 0; r < 9; ++r) dP[r] = (preal)(0);
@@ -555,20 +542,9 @@ __kernel void product_tets(const uint T, const uint Tp, __global const int* tets
       dP[c] += v * dF[r];
     }
   }
-  // fsr_tet_scatter per lane.
-  const preal vol = pload(vol_p + t0);
-  preal y[12];
-  #pragma unroll
-  for (int i = 0; i < 3; ++i) {
-    preal sum = (preal)(0);
-    #pragma unroll
-    for (int c = 0; c < 3; ++c) {
-      const preal v = vol * (dP[3 * i] * Dm[3 * c] + dP[3 * i + 1] * Dm[3 * c + 1] + dP[3 * i + 2] * Dm[3 * c + 2]);
-      y[3 * (c + 1) + i] = v;
-      sum += v;
-    }
-    y[i] = -sum;
-  }
+  fsr8_tet_scatter(dP, Dm, pload(vol_p + t0), y);
+  // Stored here rather than by store_tets8: with the count a literal the
+  // loop unrolls (this is the CG's hot path).
   fsr_real lane[PRODUCT_LANES];
   const uint n = min((uint)PRODUCT_LANES, T - t0);
   #pragma unroll

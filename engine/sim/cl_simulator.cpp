@@ -245,13 +245,13 @@ class ClSimulator final : public Simulator {
     for (int i = 0; i < reps; ++i) product_dot(p_, q_);  // product, gather and p·q: one CG iteration's K·p
     ctx_.finish();
     const double ms = 1e3 * seconds_since(t0) / reps;
-    if (profile_) profile_cg_kernels(reps);
+    if (profile_) profile_kernels(reps);
     return ms;
   }
 
   // FACESR_SIM_PROFILE=1: the mean time of each per-frame kernel, alone
   // (the gradient's, the Hessian's, the line search's, one CG iteration's).
-  void profile_cg_kernels(int reps) {
+  void profile_kernels(int reps) {
     const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes;
     const auto time = [&](const char* name, const std::function<void()>& f) {
       ctx_.finish();
