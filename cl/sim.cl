@@ -520,9 +520,9 @@ __kernel void scale_to(const uint n, const fsr_real s, __global const fsr_real* 
 
 __kernel void product_tets(const uint T, const uint Tp, __global const int* tets_cm, __global const fsr_real* p,
                            __global const fsr_real* Dminv_cm, __global const fsr_real* vol_p,
-                           __global const float* C_cm, __global fsr_real* slots) {
+                           __global const float* C_cm, __global fsr_real* slots, __global const int* stop) {
   const uint t0 = get_global_id(0) * PRODUCT_LANES;
-  if (t0 >= T) return;
+  if (t0 >= T || stop[0] != 0) return;
   preal pc[12], Dm[9], dF[9], dP[9], y[12];
   gather_corners8(t0, Tp, tets_cm, p, pc);
   #pragma unroll
@@ -557,9 +557,9 @@ __kernel void product_tets(const uint T, const uint Tp, __global const int* tets
 // The embedded surface vertices' track-spring products (slots after the tets').
 __kernel void product_surface(const uint T, const uint S, __global const fsr_real* p, __global const int* slist,
                               __global const int* sn, __global const fsr_real* sw, __global const fsr_real* surfH,
-                              __global fsr_real* slots) {
+                              __global fsr_real* slots, __global const int* stop) {
   const uint i = get_global_id(0);
-  if (i >= S) return;
+  if (i >= S || stop[0] != 0) return;
   fsr_real q[3], w[4], hq[3];
   surface_point(slist[i], sn, sw, p, q, w);
   __global const fsr_real* H = surfH + 9 * (size_t)i;
@@ -580,7 +580,8 @@ __kernel void gather_dot(const uint N, __global const int* inc_offset, __global 
                                __global const int* L_offset, __global const int* L_col,
                                __global const fsr_real* L_val, __global const uchar* bone,
                                __global const fsr_real* slots, __global fsr_real* q, __global const fsr_real* p,
-                               __global fsr_real* partial, __local fsr_real* s1) {
+                               __global fsr_real* partial, __local fsr_real* s1, __global const int* stop) {
+  if (stop[0] != 0) return;
   const uint v = get_global_id(0), lid = get_local_id(0);
   fsr_real acc = 0;
   if (v < N) {
@@ -610,15 +611,55 @@ __kernel void gather_dot(const uint N, __global const int* inc_offset, __global 
   if (lid == 0) partial[get_group_id(0)] = s1[0];
 }
 
+// The single-reduction CG's scalar recurrences on the device (see
+// ClSimulator::pcg), one work-item, so that the host need not read back
+// every iteration. cg[]: γ, α, β, denominator p·Kp, and the stopping
+// threshold on |r|; flags[0]: 0 running, 1 converged, 2 negative curvature;
+// flags[1]: iterations taken. From the previous iteration's partial sums
+// (u·Ku in `partial`, r·r and r·u interleaved in `partial2`, groups of each)
+// it tests convergence, forms β and the new denominator, then α; the same
+// operations in the same order as the host loop they replace, so the
+// iterates are the same.
+__kernel void cg_scalars(const uint groups, __global const fsr_real* partial, __global const fsr_real* partial2,
+                         __global fsr_real* cg, __global int* flags) {
+  if (get_global_id(0) != 0 || flags[0] != 0) return;
+  if (flags[1] > 0) {
+    fsr_real delta = 0, rr = 0, gamma1 = 0;
+    for (uint i = 0; i < groups; ++i) delta += partial[i];
+    for (uint i = 0; i < groups; ++i) {
+      rr += partial2[2 * i];
+      gamma1 += partial2[2 * i + 1];
+    }
+    if (sqrt(rr) <= cg[4]) {
+      flags[0] = 1;
+      return;
+    }
+    const fsr_real beta = gamma1 / cg[0];
+    cg[3] = delta - beta * gamma1 / cg[1];
+    cg[2] = beta;
+    cg[0] = gamma1;
+  }
+  if (!(cg[3] > 0)) {
+    flags[0] = 2;
+    return;
+  }
+  cg[1] = cg[0] / cg[3];
+  flags[1] += 1;
+}
+
 // One iteration's vector work of the single-reduction CG (Chronopoulos and
 // Gear 1989; see ClSimulator::pcg): p = u + β p, s = w + β s (s = K p),
 // d += α p, r −= α s, u = M⁻¹ r, and partial sums of r·r and r·u. With
 // w = K u from the product that follows, all of an iteration's scalars come
-// from one read-back instead of two.
-__kernel void cg_single_update(const uint N, const fsr_real alpha, const fsr_real beta, __global fsr_real* u,
-                               __global const fsr_real* w, __global fsr_real* p, __global fsr_real* s,
-                               __global fsr_real* d, __global fsr_real* r, __global const fsr_real* Minv,
-                               __global fsr_real* partial, __local fsr_real* s1, __local fsr_real* s2) {
+// from one reduction. α and β come from cg_scalars; nothing is done once
+// flags[0] says the solve has stopped.
+__kernel void cg_single_update(const uint N, __global const fsr_real* cg, __global const int* flags,
+                               __global fsr_real* u, __global const fsr_real* w, __global fsr_real* p,
+                               __global fsr_real* s, __global fsr_real* d, __global fsr_real* r,
+                               __global const fsr_real* Minv, __global fsr_real* partial, __local fsr_real* s1,
+                               __local fsr_real* s2) {
+  if (flags[0] != 0) return;
+  const fsr_real alpha = cg[1], beta = cg[2];
   const uint v = get_global_id(0), lid = get_local_id(0);
   fsr_real rr = 0, ru = 0;
   if (v < N) {

@@ -177,3 +177,46 @@ TEST(SimOpenCL, ThousandRandomFramesStayFinite) {
   EXPECT_EQ(rejected, 100);
   EXPECT_EQ(nan_frames, 0);
 }
+
+// The CG's scalars live on the device and the host reads its stopping flags
+// once per batch: the iterates must not depend on the batch size (1 checks
+// after every iteration), with and without point springs and spheres (the
+// per-vertex surface product), and a negative batch is refused.
+TEST(SimOpenCL, CgBatchSizeDoesNotChangeTheSolve) {
+  const SimModel m = make_sim_model(fixtures::procedural_rig(), Resolution::Low);
+  SolverOptions opt = realtime_solver();
+  std::vector<Controls> frames;
+  for (int f = 0; f < 6; ++f) {
+    Controls c = zero_controls(m);
+    c.weights[shape_index(m, "jawOpen")] = 0.15f * float(f);
+    c.weights[shape_index(m, "mouthSmile_R")] = 0.1f * float(6 - f);
+    if (f >= 3) c.springs.push_back({m.num_surface / 3, Vec3(0.5, -1, 0.5 * f), 5.0});
+    if (f == 5) c.spheres.push_back({Vec3(0, -2, 9), 1.0, 50.0});
+    frames.push_back(c);
+  }
+  auto run = [&](int batch) {
+    ClSimulatorOptions cl;
+    cl.cg_batch = batch;
+    auto sim = make_cl_simulator(m, opt, cl);
+    std::vector<std::vector<double>> nodes;
+    std::vector<int> cg;
+    for (const Controls& c : frames) {
+      cg.push_back(sim->step(c).cg_iters);
+      nodes.emplace_back();
+      sim->nodes(nodes.back());
+    }
+    return std::make_pair(nodes, cg);
+  };
+  const auto [ref_nodes, ref_cg] = run(1);
+  int total = 0;
+  for (int n : ref_cg) total += n;
+  EXPECT_GT(total, 6);  // the frames need real solves
+  for (int batch : {0, 3, 64}) {
+    const auto [nodes, cg] = run(batch);
+    EXPECT_EQ(cg, ref_cg) << "batch " << batch;
+    for (size_t f = 0; f < frames.size(); ++f) EXPECT_EQ(nodes[f], ref_nodes[f]) << "batch " << batch << " frame " << f;
+  }
+  ClSimulatorOptions bad;
+  bad.cg_batch = -1;
+  EXPECT_THROW(make_cl_simulator(m, opt, bad), Error);
+}

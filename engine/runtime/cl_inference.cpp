@@ -136,7 +136,8 @@ class ClInference final : public SrInference {
     pooled_ = Buffer<float>(ctx_, 2 * size_t(Dmax));
     pbias_ = Buffer<float>(ctx_, round16(Dmax));
     Np_ = (N_ + 31) / 32 * 32;  // feature_knn_simd scans 32 candidates per step
-    sq_ = Buffer<float>(ctx_, Np_);
+    // row_sqnorm fills the first N; the padding's +∞ keeps feature_knn_simd off it.
+    sq_ = Buffer<float>(ctx_, std::vector<float>(Np_, INFINITY));
     nbr_ = Buffer<cl_int>(ctx_, size_t(N_) * size_t(a.graph_k));
     zero_ = Buffer<float>(ctx_, std::vector<float>(round16(std::max(Dmax, Hmax)), 0.0f), ro);
     r0_ = Buffer<float>(ctx_, size_t(N_) * recon_[0].P);
@@ -175,6 +176,7 @@ class ClInference final : public SrInference {
       if (s > 0) {
         // The graph of this submodule in its input's feature space.
         k("row_sqnorm").args(N_, b.in, enc_, C_, b.in_off, sq_).run_1d(N_, 64);
+        stage("TMP sqnorm");
         if (knn_ == ClKnn::Pruned) {
           const float margin = project(b);
           k("feature_knn_pruned")
@@ -183,6 +185,7 @@ class ClInference final : public SrInference {
         } else if (knn_ == ClKnn::Simd) {
           if (hT_.size() < size_t(Np_) * b.in) hT_ = Buffer<float>(ctx_, size_t(Np_) * b.in);
           k("transpose_columns").args(N_, Np_, b.in, enc_, C_, b.in_off, hT_).run_1d(size_t(Np_) * b.in, 64);
+          stage("TMP transpose");
           k("feature_knn_simd").args(N_, Np_, b.in, k_nn, hT_, sq_, nbr_).run_1d((N_ + 7) / 8, 8);  // 8 queries per work-item
         } else {
           k("feature_knn").args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, nbr_).run_1d(N_, 16);

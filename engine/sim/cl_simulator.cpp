@@ -30,8 +30,8 @@ template <typename Real>
 class ClSimulator final : public Simulator {
  public:
   ClSimulator(const SimModel& m, const SolverOptions& opt, const compute::DeviceInfo& dev,
-              ClSimulatorOptions::Elements elements)
-      : m_(m), opt_(opt), ctx_(dev) {
+              ClSimulatorOptions::Elements elements, int cg_batch)
+      : m_(m), opt_(opt), ctx_(dev), cg_batch_(cg_batch) {
     using Elements = ClSimulatorOptions::Elements;
     simd_elements_ = elements == Elements::Simd || (elements == Elements::Auto && dev.type == compute::DeviceType::Cpu);
     std::string options = "-cl-std=CL1.2";
@@ -105,10 +105,13 @@ class ClSimulator final : public Simulator {
     node_groups_ = (N + local_ - 1) / local_;
     partial_ = Buffer<Real>(ctx_, 2 * std::max(groups_, node_groups_));
     partial2_ = Buffer<Real>(ctx_, 2 * node_groups_);
+    cg_ = Buffer<Real>(ctx_, 5);
+    cg_flags_ = Buffer<cl_int>(ctx_, 2);
+    no_stop_ = Buffer<cl_int>(ctx_, std::vector<cl_int>{0}, CL_MEM_READ_ONLY);
     for (const char* k : {"frame_tet_alpha", "frame_targets", "frame_targets8", "apply_dirichlet", "tet_energy", "tet_gradient",
                           "tet_hessian", "tet_energy8", "tet_gradient8", "tet_hessian8", "surface_terms", "gather_nodes",
                           "gather_diag_inverse", "precondition", "dot2_partial", "sum_partial",
-                          "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "cg_single_update", "tet_inverted", "embed_surface"})
+                          "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "cg_scalars", "cg_single_update", "tet_inverted", "embed_surface"})
       kernels_.emplace(k, prog_.kernel(k));
     reset();
   }
@@ -278,35 +281,37 @@ class ClSimulator final : public Simulator {
       k("gather_diag_inverse").args(N, cur_->offset, cur_->slot, bone_, dslots_, Minv_).run_1d(N, local_);
     });
     time("sum (energy)", [&] { sum(elem_, T); });
-    time("product_tets", [&] { k("product_tets").args(T, Tp_, tets_cm_, p_, Dminv_cm_, vol_p_, C_, slots_).run_1d(Tp_ / kProductLanes, 8); });
-    time("product_surface", [&] { if (S > 0) k("product_surface").args(T, S, p_, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_).run_1d(S, local_); });
+    time("product_tets", [&] { k("product_tets").args(T, Tp_, tets_cm_, p_, Dminv_cm_, vol_p_, C_, slots_, no_stop_).run_1d(Tp_ / kProductLanes, 8); });
+    time("product_surface", [&] { if (S > 0) k("product_surface").args(T, S, p_, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_, no_stop_).run_1d(S, local_); });
     time("gather_dot (track)", [&] {
       k("gather_dot")
           .args(N, track_inc_offset_, track_inc_slot_, L_offset_, L_col_, L_val_, bone_, slots_, q_, p_, partial_,
-                LocalMemory{local_ * sizeof(Real)})
+                LocalMemory{local_ * sizeof(Real)}, no_stop_)
           .run_1d(N, local_);
     });
     time("gather_dot (slots)", [&] {
       k("gather_dot")
           .args(N, cur_->offset, cur_->slot, L_none_offset_, L_col_, L_val_, bone_, slots_, q_, p_, partial_,
-                LocalMemory{local_ * sizeof(Real)})
+                LocalMemory{local_ * sizeof(Real)}, no_stop_)
           .run_1d(N, local_);
     });
     time("partials read", [&] { sum_partials(1); });
+    // α = 0, β = 0.5 and flags running: the update's full work, d unchanged.
+    cg_.upload(std::vector<Real>{Real(1), Real(0), Real(0.5), Real(1), Real(0)}.data(), 5);
     time("cg_single_update", [&] {
       k("cg_single_update")
-          .args(N, Real(0), Real(0.5), z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
+          .args(N, cg_, no_stop_, z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
                 LocalMemory{local_ * sizeof(Real)})
           .run_1d(N, local_);
     });
+    time("cg_scalars", [&] { k("cg_scalars").args(cl_uint(node_groups_), partial_, partial2_, cg_, cg_flags_).run_1d(1, 1); });
     time("whole iteration", [&] {
       k("cg_single_update")
-          .args(N, Real(0), Real(0.5), z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
+          .args(N, cg_, no_stop_, z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
                 LocalMemory{local_ * sizeof(Real)})
           .run_1d(N, local_);
-      enqueue_product_dot(z_, q_);
+      enqueue_product_dot(z_, q_, no_stop_);
       sum_partials(1);
-      sum_partials(2, partial2_);
     });
   }
 
@@ -409,25 +414,27 @@ class ClSimulator final : public Simulator {
 
   // q = K p over free nodes; returns p·q.
   double product_dot(const Buffer<Real>& p, Buffer<Real>& q) {
-    enqueue_product_dot(p, q);
+    enqueue_product_dot(p, q, no_stop_);
     return sum_partials(1).first;
   }
 
   // The same, left in the queue: the partial sums of p·q land in partial_.
-  void enqueue_product_dot(const Buffer<Real>& p, Buffer<Real>& q) {
+  // Nothing is done while stop[0] ≠ 0 (see pcg).
+  void enqueue_product_dot(const Buffer<Real>& p, Buffer<Real>& q, const Buffer<cl_int>& stop) {
     const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes;
-    k("product_tets").args(T, Tp_, tets_cm_, p, Dminv_cm_, vol_p_, C_, slots_).run_1d(Tp_ / kProductLanes, 8);
+    k("product_tets").args(T, Tp_, tets_cm_, p, Dminv_cm_, vol_p_, C_, slots_, stop).run_1d(Tp_ / kProductLanes, 8);
     if (cur_ == &inc_[1]) {  // track springs only: see gather_dot
       k("gather_dot")
           .args(N, track_inc_offset_, track_inc_slot_, L_offset_, L_col_, L_val_, bone_, slots_, q, p, partial_,
-                LocalMemory{local_ * sizeof(Real)})
+                LocalMemory{local_ * sizeof(Real)}, stop)
           .run_1d(N, local_);
       return;
     }
-    if (S > 0) k("product_surface").args(T, S, p, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_).run_1d(S, local_);
+    if (S > 0)
+      k("product_surface").args(T, S, p, cur_->vertices, surf_nodes_, surf_w_, surfH_, slots_, stop).run_1d(S, local_);
     k("gather_dot")
         .args(N, cur_->offset, cur_->slot, L_none_offset_, L_col_, L_val_, bone_, slots_, q, p, partial_,
-              LocalMemory{local_ * sizeof(Real)})
+              LocalMemory{local_ * sizeof(Real)}, stop)
         .run_1d(N, local_);
   }
 
@@ -508,10 +515,13 @@ class ClSimulator final : public Simulator {
   // K d = −g on the free nodes (bone rows are zero in g, q and Minv), by
   // preconditioned CG in the single-reduction form of Chronopoulos and Gear
   // (1989): the same iterates as textbook PCG in exact arithmetic, but each
-  // iteration's three scalars (r·r, r·u and u·Ku, u = M⁻¹r) are read back
-  // together after its one product, so an iteration waits on the device
-  // once instead of twice; on CPU devices that wait rivals the product.
-  // The price is one extra product per solve (K u0 before the first step).
+  // iteration's three scalars (r·r, r·u and u·Ku, u = M⁻¹r) come from one
+  // reduction after its one product. The scalar recurrences run on the
+  // device too (cg_scalars), so the host enqueues iterations in batches and
+  // reads the stopping flags once per batch instead of waiting on the
+  // device every iteration (on CPU devices that wait rivalled the product);
+  // iterations queued after the stop do nothing. The price is one extra
+  // product per solve (K u0 before the first step).
   int pcg(bool& negative) {
     negative = false;
     const uint32_t n = 3 * m_.num_nodes, N = m_.num_nodes;
@@ -523,29 +533,33 @@ class ClSimulator final : public Simulator {
     auto [rr, gamma] = dot2(r_, r_, r_, z_);
     const double bnorm = std::sqrt(rr);
     if (bnorm == 0) return 0;
-    double delta = product_dot(z_, q_);  // q_ holds w = K u
-    int it = 0;
-    double alpha = 0, beta = 0, denom = delta;
-    while (it < opt_.cg_max) {
-      // denom = p·Kp for the direction about to be taken.
-      if (!(denom > 0)) {
-        negative = true;
-        break;
+    const double delta = product_dot(z_, q_);  // q_ holds w = K u
+    const std::vector<Real> cg0 = {Real(gamma), Real(0), Real(0), Real(delta), Real(opt_.cg_tol * bnorm)};
+    cg_.upload(cg0.data(), cg0.size());
+    const cl_int running[2] = {0, 0};
+    cg_flags_.upload(running, 2);
+    // The first batch covers most solves (the last solve's count), the
+    // later ones are short so that few iterations are queued past the stop.
+    int queued = 0, batch = cg_batch_ > 0 ? cg_batch_ : std::max(4, last_cg_iters_);
+    cl_int flags[2] = {0, 0};
+    while (queued < opt_.cg_max) {
+      const int count = std::min(batch, opt_.cg_max - queued);
+      for (int i = 0; i < count; ++i) {
+        k("cg_scalars").args(cl_uint(node_groups_), partial_, partial2_, cg_, cg_flags_).run_1d(1, 1);
+        k("cg_single_update")
+            .args(N, cg_, cg_flags_, z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
+                  LocalMemory{local_ * sizeof(Real)})
+            .run_1d(N, local_);
+        enqueue_product_dot(z_, q_, cg_flags_);
       }
-      alpha = gamma / denom;
-      k("cg_single_update")
-          .args(N, Real(alpha), Real(beta), z_, q_, p_, s_, d_, r_, Minv_, partial2_,
-                LocalMemory{local_ * sizeof(Real)}, LocalMemory{local_ * sizeof(Real)})
-          .run_1d(N, local_);
-      ++it;
-      enqueue_product_dot(z_, q_);
-      delta = sum_partials(1).first;  // waits for the update and the product
-      const auto [rr1, gamma1] = sum_partials(2, partial2_);
-      if (std::sqrt(rr1) <= opt_.cg_tol * bnorm) break;
-      beta = gamma1 / gamma;
-      denom = delta - beta * gamma1 / alpha;
-      gamma = gamma1;
+      queued += count;
+      cg_flags_.download(flags, 2);  // waits for the batch
+      if (flags[0] != 0) break;
+      batch = cg_batch_ > 0 ? cg_batch_ : 4;
     }
+    const int it = flags[1];
+    negative = flags[0] == 2;
+    last_cg_iters_ = it;
     if (it == 0) k("scale_to").args(n, Real(1), z_, d_).run_1d(n, local_);
     return it;
   }
@@ -576,6 +590,10 @@ class ClSimulator final : public Simulator {
   bool simd_elements_ = false;
   Buffer<Real> x_, x_prev_, xt_, g_, d_, r_, z_, p_, q_, s_, partial2_, slots_, dslots_, surfH_, Minv_, elem_, partial_;
   Buffer<float> C_;
+  Buffer<Real> cg_;              // CG scalars, see cg_scalars in cl/sim.cl
+  Buffer<cl_int> cg_flags_, no_stop_;
+  int last_cg_iters_ = 0;
+  int cg_batch_ = 0;  // ClSimulatorOptions::cg_batch        // the last solve's CG iterations: the next one's first batch
   uint32_t nspheres_ = 0;
   size_t local_ = 64, groups_ = 64, node_groups_ = 1;
   bool have_frame_ = false;
@@ -590,9 +608,10 @@ class ClSimulator final : public Simulator {
 
 std::unique_ptr<Simulator> make_cl_simulator(const SimModel& model, const SolverOptions& opt,
                                              const ClSimulatorOptions& cl) {
+  if (cl.cg_batch < 0) throw Error("ClSimulatorOptions::cg_batch must be 0 (automatic) or positive, got " + std::to_string(cl.cg_batch));
   const compute::DeviceInfo dev = compute::select_device(cl.device);
-  if (dev.double_support && !cl.single_precision) return std::make_unique<ClSimulator<double>>(model, opt, dev, cl.elements);
-  return std::make_unique<ClSimulator<float>>(model, opt, dev, cl.elements);
+  if (dev.double_support && !cl.single_precision) return std::make_unique<ClSimulator<double>>(model, opt, dev, cl.elements, cl.cg_batch);
+  return std::make_unique<ClSimulator<float>>(model, opt, dev, cl.elements, cl.cg_batch);
 }
 
 }  // namespace facesr

@@ -18,13 +18,18 @@ struct ClSimulatorOptions {
   // product is eight-wide on every device.
   enum class Elements { Auto, Simd, Scalar };
   Elements elements = Elements::Auto;
+  // CG iterations enqueued between reads of the solve's stopping flags (the
+  // scalar recurrences run on the device; iterations queued past the stop
+  // do nothing). 0: the previous solve's count first, then 4 at a time.
+  // The iterates do not depend on it (tested); 1 waits every iteration.
+  int cg_batch = 0;
 };
 
 // The OpenCL simulator: the same energy (cl/fsr_material.h) and the same
 // Newton / PCG / line-search algorithm as the CPU reference, with every
 // per-element and vector operation in kernels (cl/sim.cl). Buffers stay on
-// the device across frames; a frame uploads only its controls and downloads
-// only a handful of reduction partials per CG iteration.
+// the device across frames; a frame uploads only its controls, and a CG
+// solve reads back two flags per batch of iterations.
 std::unique_ptr<Simulator> make_cl_simulator(const SimModel& model, const SolverOptions& opt = {},
                                              const ClSimulatorOptions& cl = {});
 
