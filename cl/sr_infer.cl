@@ -335,10 +335,13 @@ void knn_insert16(const float16 d, const uint jb, const uint k, float* bd, int* 
 // ties (candidates in increasing index, strict <).
 #define KNN_QUERIES 8
 
+// With `rows` (R node indices) it finds those nodes' neighbours only, the
+// symmetric scan's fallback; without (NULL) every node's, R = N.
 __kernel void feature_knn_simd(const uint N, const uint Np, const uint D, const uint k, __global const float* hT,
-                               __global const float* sq, __global int* nbr) {
+                               __global const float* sq, __global const int* rows, const uint R,
+                               __global int* nbr) {
   const uint i0 = get_global_id(0) * KNN_QUERIES;
-  if (i0 >= N) return;
+  if (i0 >= R) return;
   float bd[KNN_QUERIES][KNN_MAX_K];
   int bi[KNN_QUERIES][KNN_MAX_K];
   for (uint q = 0; q < KNN_QUERIES; ++q)
@@ -348,9 +351,9 @@ __kernel void feature_knn_simd(const uint N, const uint Np, const uint D, const 
     }
   // Per query: index, |h|² and the current k-th distance, as named scalars
   // (PoCL keeps no private array in registers).
-#define QUERY(n)                        \
-  const uint q##n = min(i0 + n, N - 1); \
-  const float sqi##n = sq[q##n];        \
+#define QUERY(n)                                                        \
+  const uint q##n = rows ? (uint)rows[min(i0 + n, R - 1)] : min(i0 + n, N - 1); \
+  const float sqi##n = sq[q##n];                                        \
   float th##n = INFINITY;
   ROWS8(QUERY)
 #undef QUERY
@@ -395,8 +398,178 @@ __kernel void feature_knn_simd(const uint N, const uint Np, const uint D, const 
     ROWS8(INSERT)
 #undef INSERT
   }
-  for (uint q = 0; q < KNN_QUERIES && i0 + q < N; ++q)
-    for (uint t = 0; t < k; ++t) nbr[(size_t)(i0 + q) * k + t] = bi[q][t];
+  for (uint q = 0; q < KNN_QUERIES && i0 + q < R; ++q) {
+    const size_t i = rows ? (size_t)rows[i0 + q] : i0 + q;
+    for (uint t = 0; t < k; ++t) nbr[i * k + t] = bi[q][t];
+  }
+}
+
+// ---- Symmetric k-NN (CPU devices) ----
+// The distance formula is symmetric bit for bit (fma(a, b, t) = fma(b, a, t),
+// sq_i + sq_j = sq_j + sq_i), so each pair is computed once: the work-item
+// for queries i0…i0+7 scans only the 32-candidate blocks from its own one
+// on and records a pair for its query (row side) and, off its own block,
+// for the candidate (column side). Recording needs a bound on each row's
+// k-th distance before the scan: tau_i, the largest distance to k known
+// distinct other nodes (last frame's neighbours, or the geodesic graph at
+// first), plus a margin for rounding. Every pair closer than tau_i is
+// appended to row i's list (atomically: two work-items may append to one
+// row); knn_select then sorts each list. A list that overflowed or came up
+// short (impossible unless rounding beat the margin) is redone by a full
+// scan, so the neighbours are exactly feature_knn's in every case.
+#ifndef KNN_LIST  // the host sets it (ClInferenceOptions::knn_list)
+#define KNN_LIST 64
+#endif
+
+float knn_distance(__global const float* hT, const uint Np, const uint D, __global const float* sq, const uint i,
+                   const uint j) {
+  float t = 0.0f;
+  for (uint c = 0; c < D; ++c) t = fma(hT[(size_t)c * Np + i], hT[(size_t)c * Np + j], t);
+  return sq[i] + sq[j] - 2.0f * t;
+}
+
+// tau[i] for i < N (tau has Np entries; the padding's −∞ is set at load).
+__kernel void knn_bounds(const uint N, const uint Np, const uint D, const uint k, __global const float* hT,
+                         __global const float* sq, __global const int* known, __global float* tau) {
+  const uint i = get_global_id(0);
+  if (i >= N) return;
+  float t = -INFINITY;
+  for (uint a = 0; a < k; ++a) {
+    const int j = known[(size_t)i * k + a];
+    bool fine = j >= 0 && j < (int)N && j != (int)i;
+    for (uint b = 0; b < a; ++b) fine = fine && known[(size_t)i * k + b] != j;
+    if (!fine) {  // no bound: every candidate is recorded (and the list overflows to a full scan)
+      t = INFINITY;
+      break;
+    }
+    // The margin covers the formula's rounding, |sq_i| + |sq_j| in size.
+    t = fmax(t, knn_distance(hT, Np, D, sq, i, (uint)j) + 1e-5f * (sq[i] + sq[j]));
+  }
+  tau[i] = t;
+}
+
+void knn_append(__global volatile int* count, __global float* list_d, __global int* list_j, const uint row,
+                const float d, const int j) {
+  const int slot = atomic_inc(count + row);
+  if (slot < KNN_LIST) {
+    list_d[(size_t)row * KNN_LIST + slot] = d;
+    list_j[(size_t)row * KNN_LIST + slot] = j;
+  }
+}
+
+// Appends the lanes of one 16-candidate block (indices jb…) that beat the bound.
+void knn_append_rows(const float16 d, const float th, const uint jb, const uint self, const uint row,
+                     __global volatile int* count, __global float* list_d, __global int* list_j) {
+  float t16[16];
+  vstore16(d, 0, t16);
+  for (uint l = 0; l < 16; ++l)
+    if (t16[l] < th && jb + l != self) knn_append(count, list_d, list_j, row, t16[l], (int)(jb + l));
+}
+
+void knn_append_columns(const float16 d, __global const float* tau, const uint jb, const uint q,
+                        __global volatile int* count, __global float* list_d, __global int* list_j) {
+  float t16[16];
+  vstore16(d, 0, t16);
+  for (uint l = 0; l < 16; ++l)
+    if (t16[l] < tau[jb + l]) knn_append(count, list_d, list_j, jb + l, t16[l], (int)q);
+}
+
+__kernel void feature_knn_symmetric(const uint N, const uint Np, const uint D, __global const float* hT,
+                                    __global const float* sq, __global const float* tau,
+                                    __global volatile int* count, __global float* list_d, __global int* list_j) {
+  const uint i0 = get_global_id(0) * KNN_QUERIES;
+  if (i0 >= N) return;
+  // Queries past N repeat the last node with no bound, so they record nothing.
+#define QUERY(n)                                      \
+  const uint q##n = min(i0 + n, N - 1);               \
+  const bool real##n = i0 + n < N;                    \
+  const float sqi##n = sq[q##n];                      \
+  const float th##n = real##n ? tau[q##n] : -INFINITY;
+  ROWS8(QUERY)
+#undef QUERY
+  const uint own = i0 / 32 * 32;
+  for (uint j0 = own; j0 < Np; j0 += 32) {
+#define ZERO(q) float16 a##q = (float16)(0.0f), b##q = (float16)(0.0f);
+    ROWS8(ZERO)
+#undef ZERO
+    for (uint c = 0; c < D; ++c) {
+      __global const float* row = hT + (size_t)c * Np;
+      const float16 ha = vload16(0, row + j0), hb = vload16(0, row + j0 + 16);
+#define STEP(n)                             \
+  {                                         \
+    const float16 v = (float16)(row[q##n]); \
+    a##n = fma(v, ha, a##n);                \
+    b##n = fma(v, hb, b##n);                \
+  }
+      ROWS8(STEP)
+#undef STEP
+    }
+    const float16 sqa = vload16(0, sq + j0), sqb = vload16(0, sq + j0 + 16);
+    // Off the own block the candidates' bounds apply too (column side);
+    // in it every pair is some query's row side already.
+    const bool off = j0 != own;
+    const float16 ta = off ? vload16(0, tau + j0) : (float16)(-INFINITY);
+    const float16 tb = off ? vload16(0, tau + j0 + 16) : (float16)(-INFINITY);
+#define DIST(n)                                                                                \
+  const float16 da##n = sqi##n + sqa - 2.0f * a##n, db##n = sqi##n + sqb - 2.0f * b##n;        \
+  const int16 rowhit##n = (da##n < (float16)(th##n)) | (db##n < (float16)(th##n));             \
+  const int16 colhit##n = real##n ? (da##n < ta) | (db##n < tb) : (int16)(0);
+    ROWS8(DIST)
+#undef DIST
+    if (!any(rowhit0 | rowhit1 | rowhit2 | rowhit3 | rowhit4 | rowhit5 | rowhit6 | rowhit7 | colhit0 | colhit1 |
+             colhit2 | colhit3 | colhit4 | colhit5 | colhit6 | colhit7))
+      continue;
+#define RECORD(n)                                                                  \
+  if (any(rowhit##n)) {                                                            \
+    knn_append_rows(da##n, th##n, j0, q##n, q##n, count, list_d, list_j);          \
+    knn_append_rows(db##n, th##n, j0 + 16, q##n, q##n, count, list_d, list_j);     \
+  }                                                                                \
+  if (any(colhit##n)) {                                                            \
+    knn_append_columns(da##n, tau, j0, q##n, count, list_d, list_j);               \
+    knn_append_columns(db##n, tau, j0 + 16, q##n, count, list_d, list_j);          \
+  }
+    ROWS8(RECORD)
+#undef RECORD
+  }
+}
+
+// Each row's k nearest from its list, ordered by (distance, index) as the
+// full scan orders them. Rows whose list overflowed (or came up short) are
+// appended to `redo` (count in redo_count[0]) for feature_knn_simd's full
+// scan. Resets the list counts for the next frame; the result is the next
+// frame's known neighbours.
+__kernel void knn_select(const uint N, const uint k, __global int* count, __global const float* list_d,
+                         __global const int* list_j, __global int* nbr, __global volatile int* redo_count,
+                         __global int* redo) {
+  const uint i = get_global_id(0);
+  if (i >= N) return;
+  const int n = count[i];
+  count[i] = 0;
+  if (n < (int)k || n > KNN_LIST) {
+    redo[atomic_inc(redo_count)] = (int)i;
+    return;
+  }
+  float bd[KNN_MAX_K];
+  int bi[KNN_MAX_K];
+  for (uint t = 0; t < k; ++t) {
+    bd[t] = INFINITY;
+    bi[t] = 0x7fffffff;
+  }
+  for (int e = 0; e < n; ++e) {
+    const float v = list_d[(size_t)i * KNN_LIST + e];
+    const int j = list_j[(size_t)i * KNN_LIST + e];
+    if (v < bd[k - 1] || (v == bd[k - 1] && j < bi[k - 1])) {
+      int t = (int)k - 1;
+      while (t > 0 && (v < bd[t - 1] || (v == bd[t - 1] && j < bi[t - 1]))) {
+        bd[t] = bd[t - 1];
+        bi[t] = bi[t - 1];
+        --t;
+      }
+      bd[t] = v;
+      bi[t] = j;
+    }
+  }
+  for (uint t = 0; t < k; ++t) nbr[(size_t)i * k + t] = bi[t];
 }
 
 // hT[c, i] = h[i, off + c] for i < N, 0 for N ≤ i < Np (for feature_knn_simd).

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "compute/cl_buffer.h"
+#include "core/error.h"
 #include "compute/cl_context.h"
 #include "compute/cl_program.h"
 #include "rig/rig_io.h"
@@ -126,17 +127,32 @@ TEST(RuntimeInference, EveryFeatureKnnVariantGivesTheSameOutputAsTheFullScan) {
     o.knn = knn;
     return make_cl_inference(m, o);
   };
-  auto full = with(ClKnn::Full), simd = with(ClKnn::Simd), pruned = with(ClKnn::Pruned);
+  auto full = with(ClKnn::Full), simd = with(ClKnn::Simd), pruned = with(ClKnn::Pruned),
+       symmetric = with(ClKnn::Symmetric);
+  // A list of k entries overflows for most nodes: the full-scan redo path.
+  ClInferenceOptions tight;
+  tight.knn = ClKnn::Symmetric;
+  tight.knn_list = m->arch.graph_k;
+  auto redo = make_cl_inference(m, tight);
+  // Symmetric bounds each frame by the last one's neighbours: frames in
+  // order, then out of order and repeated (bounds from an unrelated frame).
   const auto lr = lr_frames(*m, 4);
-  for (int64_t f = 0; f < lr.size(0); ++f) {
-    std::vector<float> of(size_t(3 * m->num_hr)), os(of.size()), op(of.size());
+  for (int64_t f : {0, 1, 2, 3, 3, 0, 2}) {
+    std::vector<float> of(size_t(3 * m->num_hr)), os(of.size()), op(of.size()), oy(of.size()), orr(of.size());
     const auto in = lr[f].contiguous();
     full->infer(in.data_ptr<float>(), of.data());
     simd->infer(in.data_ptr<float>(), os.data());
     pruned->infer(in.data_ptr<float>(), op.data());
+    symmetric->infer(in.data_ptr<float>(), oy.data());
+    redo->infer(in.data_ptr<float>(), orr.data());
     EXPECT_EQ(of, os) << "frame " << f;
     EXPECT_EQ(of, op) << "frame " << f;
+    EXPECT_EQ(of, oy) << "frame " << f;
+    EXPECT_EQ(of, orr) << "frame " << f;
   }
+  ClInferenceOptions bad;
+  bad.knn_list = 0;
+  EXPECT_THROW(make_cl_inference(m, bad), Error);
 }
 
 TEST(RuntimeInference, OpenClProfileNamesEveryStage) {

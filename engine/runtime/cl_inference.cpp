@@ -60,13 +60,16 @@ class ClInference final : public SrInference {
     M_ = uint32_t(plan.M);
     K_ = uint32_t(plan.K);
     require(a.graph_k <= 16, "OpenCL inference: graph_k " + std::to_string(a.graph_k) + " is above the kernels' 16");
-    prog_ = ctx_.build_program({"sr_infer.cl"}, "-cl-std=CL1.2");
+    require(opt.knn_list >= 1 && opt.knn_list <= 4096,
+            "OpenCL inference: knn_list " + std::to_string(opt.knn_list) + " is outside 1…4096");
+    prog_ = ctx_.build_program({"sr_infer.cl"}, "-cl-std=CL1.2 -DKNN_LIST=" + std::to_string(opt.knn_list));
     // Auto choices, made once: the 16-wide kernels on CPU devices.
     const bool cpu_device = ctx_.device().type != compute::DeviceType::Gpu;
     simd_ = opt.kernels == ClKernels::Auto ? cpu_device : opt.kernels == ClKernels::Simd;
-    knn_ = opt.knn != ClKnn::Auto ? opt.knn : cpu_device ? ClKnn::Simd : ClKnn::Full;
+    knn_ = opt.knn != ClKnn::Auto ? opt.knn : cpu_device ? ClKnn::Symmetric : ClKnn::Full;
     for (const char* k : {"sr_input", "dense_simd", "dense_tiled", "edge_max", "edge_max_simd", "pool_columns", "pool_columns_simd", "pooled_bias",
                           "row_sqnorm", "feature_knn", "feature_knn_simd", "feature_knn_pruned", "transpose_columns",
+                          "knn_bounds", "feature_knn_symmetric", "knn_select",
                           "copy_columns", "add_embedded", "upsample_features", "upsample_features_simd"})
       kernels_.emplace(k, prog_.kernel(k));
     const cl_mem_flags ro = CL_MEM_READ_ONLY;
@@ -136,8 +139,20 @@ class ClInference final : public SrInference {
     pooled_ = Buffer<float>(ctx_, 2 * size_t(Dmax));
     pbias_ = Buffer<float>(ctx_, round16(Dmax));
     Np_ = (N_ + 31) / 32 * 32;  // feature_knn_simd scans 32 candidates per step
-    // row_sqnorm fills the first N; the padding's +∞ keeps feature_knn_simd off it.
+    // row_sqnorm fills the first N; the padding's +∞ keeps the k-NN scans off it.
     sq_ = Buffer<float>(ctx_, std::vector<float>(Np_, INFINITY));
+    // feature_knn_symmetric: per-row bounds (the padding's −∞ records
+    // nothing), candidate lists and their counts, each feature submodule's
+    // last neighbours (from a full scan at the first frame), and the rows
+    // to redo by a full scan.
+    tau_ = Buffer<float>(ctx_, std::vector<float>(Np_, -INFINITY));
+    count_ = Buffer<cl_int>(ctx_, std::vector<cl_int>(N_, 0));
+    list_d_ = Buffer<float>(ctx_, size_t(N_) * size_t(opt.knn_list));
+    list_j_ = Buffer<cl_int>(ctx_, size_t(N_) * size_t(opt.knn_list));
+    for (size_t s = 0; s < blocks_.size(); ++s) known_.emplace_back(ctx_, size_t(N_) * size_t(a.graph_k));
+    have_known_.assign(blocks_.size(), false);
+    redo_count_ = Buffer<cl_int>(ctx_, 1);
+    redo_ = Buffer<cl_int>(ctx_, N_);
     nbr_ = Buffer<cl_int>(ctx_, size_t(N_) * size_t(a.graph_k));
     zero_ = Buffer<float>(ctx_, std::vector<float>(round16(std::max(Dmax, Hmax)), 0.0f), ro);
     r0_ = Buffer<float>(ctx_, size_t(N_) * recon_[0].P);
@@ -176,21 +191,41 @@ class ClInference final : public SrInference {
       if (s > 0) {
         // The graph of this submodule in its input's feature space.
         k("row_sqnorm").args(N_, b.in, enc_, C_, b.in_off, sq_).run_1d(N_, 64);
-        stage("TMP sqnorm");
         if (knn_ == ClKnn::Pruned) {
           const float margin = project(b);
           k("feature_knn_pruned")
               .args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, proj_, order_, rank_, margin, nbr_)
               .run_1d(N_, 16);
+        } else if (knn_ == ClKnn::Symmetric) {
+          if (hT_.size() < size_t(Np_) * b.in) hT_ = Buffer<float>(ctx_, size_t(Np_) * b.in);
+          k("transpose_columns").args(N_, Np_, b.in, enc_, C_, b.in_off, hT_).run_1d(size_t(Np_) * b.in, 64);
+          if (!have_known_[s]) {  // no bounds yet: one full scan
+            k("feature_knn_simd").args(N_, Np_, b.in, k_nn, hT_, sq_, no_rows_, N_, known_[s]).run_1d((N_ + 7) / 8, 8);
+            have_known_[s] = true;
+          } else {
+            k("knn_bounds").args(N_, Np_, b.in, k_nn, hT_, sq_, known_[s], tau_).run_1d(N_, 64);
+            k("feature_knn_symmetric")
+                .args(N_, Np_, b.in, hT_, sq_, tau_, count_, list_d_, list_j_)
+                .run_1d((N_ + 7) / 8, 1);
+            const cl_int zero = 0;
+            redo_count_.upload(&zero, 1);
+            k("knn_select").args(N_, k_nn, count_, list_d_, list_j_, known_[s], redo_count_, redo_).run_1d(N_, 64);
+            cl_int redo = 0;
+            redo_count_.download(&redo, 1);
+            last_knn_redo_ = redo;
+            if (redo > 0)
+              k("feature_knn_simd")
+                  .args(N_, Np_, b.in, k_nn, hT_, sq_, redo_, uint32_t(redo), known_[s])
+                  .run_1d((size_t(redo) + 7) / 8, 8);
+          }
         } else if (knn_ == ClKnn::Simd) {
           if (hT_.size() < size_t(Np_) * b.in) hT_ = Buffer<float>(ctx_, size_t(Np_) * b.in);
           k("transpose_columns").args(N_, Np_, b.in, enc_, C_, b.in_off, hT_).run_1d(size_t(Np_) * b.in, 64);
-          stage("TMP transpose");
-          k("feature_knn_simd").args(N_, Np_, b.in, k_nn, hT_, sq_, nbr_).run_1d((N_ + 7) / 8, 8);  // 8 queries per work-item
+          k("feature_knn_simd").args(N_, Np_, b.in, k_nn, hT_, sq_, no_rows_, N_, nbr_).run_1d((N_ + 7) / 8, 8);  // 8 queries per work-item
         } else {
           k("feature_knn").args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, nbr_).run_1d(N_, 16);
         }
-        nbr = &nbr_;
+        nbr = knn_ == ClKnn::Symmetric ? &known_[s] : &nbr_;
         stage("feature knn");
       }
       dense(N_, b.self, enc_, C_, b.in_off, enc_, C_, 0, b.self.b, self_, b.D, 0, kNone);
@@ -362,7 +397,12 @@ class ClInference final : public SrInference {
   Buffer<float> pe_, up_w_, disp_, enc_, self_, other_, y_, pooled_, pbias_, sq_, zero_, r0_, ha_, hb_;
   Buffer<cl_int> up_idx_, graph_, nbr_, order_, rank_, embed_nodes_;
   Buffer<float> embed_w_;
-  Buffer<float> proj_, compact_, hT_;
+  Buffer<float> proj_, compact_, hT_, tau_, list_d_;
+  Buffer<cl_int> count_, list_j_;
+  std::vector<Buffer<cl_int>> known_;
+  std::vector<bool> have_known_;
+  Buffer<cl_int> redo_count_, redo_, no_rows_;  // no_rows_: empty, binds as NULL
+  int last_knn_redo_ = 0;
   std::vector<float> host_h_;
   std::vector<double> u_;
   size_t pool_local_ = 64;

@@ -39,16 +39,21 @@ class SrInference {
 std::unique_ptr<SrInference> make_cpu_inference(std::shared_ptr<const SrModel> model);
 
 enum class ClKernels { Auto, Simd, Tiled };
-enum class ClKnn { Auto, Full, Simd, Pruned };
+enum class ClKnn { Auto, Full, Simd, Pruned, Symmetric };
 
 struct ClInferenceOptions {
   compute::DeviceSelector device;
   bool profile = false;  // wait after each stage and time it (slower)
   // Feature-space k-NN, every variant exact (the same neighbours in the same
-  // order): Auto picks Simd on CPU devices and Full on GPUs; Full scans every
-  // node per work-item; Simd scans 16 candidates per step for 8 queries;
-  // Pruned walks the nodes sorted along the features' principal direction.
+  // order): Auto picks Symmetric on CPU devices and Full on GPUs; Full scans every
+  // node per work-item; Simd scans 32 candidates per step for 8 queries;
+  // Pruned walks the nodes sorted along the features' principal direction;
+  // Symmetric (Auto on CPU devices) computes each pair's distance once, for
+  // both of its nodes, bounded by last frame's neighbours.
   ClKnn knn = ClKnn::Auto;
+  // Symmetric: candidates kept per node below its bound; a node with more
+  // (its features moved far since the last frame) is redone by a full scan.
+  int knn_list = 64;
   // Dense layers and upsampling: Auto picks the 16-wide Simd kernels on CPU
   // devices and the local-memory Tiled ones on GPUs; either runs anywhere
   // (so that tests cover the GPU path on a CPU device).
