@@ -410,9 +410,8 @@ __kernel void feature_knn_simd(const uint N, const uint Np, const uint D, const 
 // for queries i0…i0+7 scans only the 32-candidate blocks from its own one
 // on and records a pair for its query (row side) and, off its own block,
 // for the candidate (column side). Recording needs a bound on each row's
-// k-th distance before the scan: tau_i, the largest distance to k known
-// distinct other nodes (last frame's neighbours, or the geodesic graph at
-// first), plus a margin for rounding. Every pair closer than tau_i is
+// k-th distance before the scan: tau_i, the k-th distance to known distinct
+// other nodes (see knn_bounds), plus a margin for rounding. Every pair closer than tau_i is
 // appended to row i's list (atomically: two work-items may append to one
 // row); knn_select then sorts each list. A list that overflowed or came up
 // short (impossible unless rounding beat the margin) is redone by a full
@@ -421,31 +420,61 @@ __kernel void feature_knn_simd(const uint N, const uint Np, const uint D, const 
 #define KNN_LIST 64
 #endif
 
-float knn_distance(__global const float* hT, const uint Np, const uint D, __global const float* sq, const uint i,
-                   const uint j) {
-  float t = 0.0f;
-  for (uint c = 0; c < D; ++c) t = fma(hT[(size_t)c * Np + i], hT[(size_t)c * Np + j], t);
-  return sq[i] + sq[j] - 2.0f * t;
-}
-
-// tau[i] for i < N (tau has Np entries; the padding's −∞ is set at load).
-__kernel void knn_bounds(const uint N, const uint Np, const uint D, const uint k, __global const float* hT,
-                         __global const float* sq, __global const int* known, __global float* tau) {
+// tau[i] for i < N (tau has Np entries; the padding's −∞ is set at load):
+// the k-th smallest distance from i to its known neighbours and their known
+// neighbours (distinct nodes; the second ring keeps the bound tight when the
+// features move between frames), plus a margin for the formula's rounding
+// (|sq_i| + |sq_j| in size). h is row-major (row stride s, first column
+// off), so each distance reads contiguous rows.
+__kernel void knn_bounds(const uint N, const uint D, const uint k, __global const float* h, const uint s,
+                         const uint off, __global const float* sq, __global const int* known, __global float* tau) {
   const uint i = get_global_id(0);
   if (i >= N) return;
-  float t = -INFINITY;
-  for (uint a = 0; a < k; ++a) {
-    const int j = known[(size_t)i * k + a];
-    bool fine = j >= 0 && j < (int)N && j != (int)i;
-    for (uint b = 0; b < a; ++b) fine = fine && known[(size_t)i * k + b] != j;
-    if (!fine) {  // no bound: every candidate is recorded (and the list overflows to a full scan)
-      t = INFINITY;
-      break;
-    }
-    // The margin covers the formula's rounding, |sq_i| + |sq_j| in size.
-    t = fmax(t, knn_distance(hT, Np, D, sq, i, (uint)j) + 1e-5f * (sq[i] + sq[j]));
+  h += off;
+  __global const float* hi = h + (size_t)i * s;
+  float bd[KNN_MAX_K];
+  int bi[KNN_MAX_K];
+  for (uint t = 0; t < k; ++t) {
+    bd[t] = INFINITY;
+    bi[t] = -1;
   }
-  tau[i] = t;
+  float sqmax = 0.0f;
+  for (uint a = 0; a <= k; ++a) {
+    // a = 0: i's own known neighbours; a > 0: those of its (a−1)-th one.
+    const int via = a == 0 ? (int)i : known[(size_t)i * k + a - 1];
+    if (via < 0 || via >= (int)N) continue;
+    for (uint b = 0; b < k; ++b) {
+      const int j = known[(size_t)via * k + b];
+      if (j < 0 || j >= (int)N || j == (int)i) continue;
+      // 16 at a time (a bound need not match the scans' rounding: the margin covers it).
+      __global const float* hj = h + (size_t)j * s;
+      float16 acc = (float16)(0.0f);
+      uint c = 0;
+      for (; c + 16 <= D; c += 16) acc = fma(vload16(0, hi + c), vload16(0, hj + c), acc);
+      const float8 a8 = acc.lo + acc.hi;
+      const float4 a4 = a8.lo + a8.hi;
+      float dot = (a4.x + a4.y) + (a4.z + a4.w);
+      for (; c < D; ++c) dot = fma(hi[c], hj[c], dot);
+      const float v = sq[i] + sq[j] - 2.0f * dot;
+      if (!(v < bd[k - 1])) continue;
+      // A node reached twice has the same distance: keep it once.
+      bool fresh = true;
+      for (uint t = 0; t < k; ++t) fresh = fresh && bi[t] != j;
+      if (!fresh) continue;
+      sqmax = fmax(sqmax, sq[j]);
+      int t = (int)k - 1;
+      while (t > 0 && v < bd[t - 1]) {
+        bd[t] = bd[t - 1];
+        bi[t] = bi[t - 1];
+        --t;
+      }
+      bd[t] = v;
+      bi[t] = j;
+    }
+  }
+  // Fewer than k distinct nodes known: no bound (every candidate is
+  // recorded, and the lists overflow to a full scan).
+  tau[i] = bi[k - 1] < 0 ? INFINITY : bd[k - 1] + 1e-5f * (sq[i] + sqmax);
 }
 
 void knn_append(__global volatile int* count, __global float* list_d, __global int* list_j, const uint row,

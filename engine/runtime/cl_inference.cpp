@@ -203,7 +203,7 @@ class ClInference final : public SrInference {
             k("feature_knn_simd").args(N_, Np_, b.in, k_nn, hT_, sq_, no_rows_, N_, known_[s]).run_1d((N_ + 7) / 8, 8);
             have_known_[s] = true;
           } else {
-            k("knn_bounds").args(N_, Np_, b.in, k_nn, hT_, sq_, known_[s], tau_).run_1d(N_, 64);
+            k("knn_bounds").args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, known_[s], tau_).run_1d(N_, 64);
             k("feature_knn_symmetric")
                 .args(N_, Np_, b.in, hT_, sq_, tau_, count_, list_d_, list_j_)
                 .run_1d((N_ + 7) / 8, 1);

@@ -305,6 +305,24 @@ class ClSimulator final : public Simulator {
           .run_1d(N, local_);
     });
     time("cg_scalars", [&] { k("cg_scalars").args(cl_uint(node_groups_), partial_, partial2_, cg_, cg_flags_).run_1d(1, 1); });
+    // An iteration as pcg queues it (no read-back), stopped at once: the launches alone.
+    const cl_int stopped[2] = {1, 0};
+    cg_flags_.upload(stopped, 2);
+    time("stopped iteration", [&] {
+      k("cg_scalars").args(cl_uint(node_groups_), partial_, partial2_, cg_, cg_flags_).run_1d(1, 1);
+      k("cg_single_update")
+          .args(N, cg_, cg_flags_, z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
+                LocalMemory{local_ * sizeof(Real)})
+          .run_1d(N, local_);
+      enqueue_product_dot(z_, q_, cg_flags_);
+    });
+    time("queued iteration", [&] {
+      k("cg_single_update")
+          .args(N, cg_, no_stop_, z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
+                LocalMemory{local_ * sizeof(Real)})
+          .run_1d(N, local_);
+      enqueue_product_dot(z_, q_, no_stop_);
+    });
     time("whole iteration", [&] {
       k("cg_single_update")
           .args(N, cg_, no_stop_, z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
