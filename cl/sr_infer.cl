@@ -601,13 +601,19 @@ __kernel void knn_select(const uint N, const uint k, __global int* count, __glob
   for (uint t = 0; t < k; ++t) nbr[(size_t)i * k + t] = bi[t];
 }
 
-// hT[c, i] = h[i, off + c] for i < N, 0 for N ≤ i < Np (for feature_knn_simd).
-__kernel void transpose_columns(const uint N, const uint Np, const uint D, __global const float* h, const uint s,
-                                const uint off, __global float* hT) {
-  const uint id = get_global_id(0);
-  if (id >= Np * D) return;
-  const uint c = id / Np, i = id % Np;
-  hT[id] = i < N ? h[(size_t)i * s + off + c] : 0.0f;
+// hT[c, i] = h[i, off + c] for i < N, 0 for N ≤ i < Np (for the k-NN
+// scans), 16 rows per work-item: 16 strided loads, one vector store; work-item
+// g takes column g mod D and rows 16 (g / D) on.
+__kernel void transpose_columns16(const uint N, const uint Np, const uint D, __global const float* h, const uint s,
+                                  const uint off, __global float* hT) {
+  const uint id = get_global_id(0), blocks = Np / 16;
+  if (id >= blocks * D) return;
+  // Consecutive work-items take consecutive columns of the same 16 rows,
+  // which then stay in L1.
+  const uint c = id % D, i0 = 16 * (id / D);
+  float v[16];
+  for (uint l = 0; l < 16; ++l) v[l] = i0 + l < N ? h[(size_t)(i0 + l) * s + off + c] : 0.0f;
+  vstore16(vload16(0, v), 0, hT + (size_t)c * Np + i0);
 }
 
 // The same neighbours as feature_knn, found without scanning every node.

@@ -68,7 +68,7 @@ class ClInference final : public SrInference {
     simd_ = opt.kernels == ClKernels::Auto ? cpu_device : opt.kernels == ClKernels::Simd;
     knn_ = opt.knn != ClKnn::Auto ? opt.knn : cpu_device ? ClKnn::Symmetric : ClKnn::Full;
     for (const char* k : {"sr_input", "dense_simd", "dense_tiled", "edge_max", "edge_max_simd", "pool_columns", "pool_columns_simd", "pooled_bias",
-                          "row_sqnorm", "feature_knn", "feature_knn_simd", "feature_knn_pruned", "transpose_columns",
+                          "row_sqnorm", "feature_knn", "feature_knn_simd", "feature_knn_pruned", "transpose_columns16",
                           "knn_bounds", "feature_knn_symmetric", "knn_select",
                           "copy_columns", "add_embedded", "upsample_features", "upsample_features_simd"})
       kernels_.emplace(k, prog_.kernel(k));
@@ -198,7 +198,7 @@ class ClInference final : public SrInference {
               .run_1d(N_, 16);
         } else if (knn_ == ClKnn::Symmetric) {
           if (hT_.size() < size_t(Np_) * b.in) hT_ = Buffer<float>(ctx_, size_t(Np_) * b.in);
-          k("transpose_columns").args(N_, Np_, b.in, enc_, C_, b.in_off, hT_).run_1d(size_t(Np_) * b.in, 64);
+          k("transpose_columns16").args(N_, Np_, b.in, enc_, C_, b.in_off, hT_).run_1d(size_t(Np_ / 16) * b.in, 16);
           if (!have_known_[s]) {  // no bounds yet: one full scan
             k("feature_knn_simd").args(N_, Np_, b.in, k_nn, hT_, sq_, no_rows_, N_, known_[s]).run_1d((N_ + 7) / 8, 8);
             have_known_[s] = true;
@@ -220,7 +220,7 @@ class ClInference final : public SrInference {
           }
         } else if (knn_ == ClKnn::Simd) {
           if (hT_.size() < size_t(Np_) * b.in) hT_ = Buffer<float>(ctx_, size_t(Np_) * b.in);
-          k("transpose_columns").args(N_, Np_, b.in, enc_, C_, b.in_off, hT_).run_1d(size_t(Np_) * b.in, 64);
+          k("transpose_columns16").args(N_, Np_, b.in, enc_, C_, b.in_off, hT_).run_1d(size_t(Np_ / 16) * b.in, 16);
           k("feature_knn_simd").args(N_, Np_, b.in, k_nn, hT_, sq_, no_rows_, N_, nbr_).run_1d((N_ + 7) / 8, 8);  // 8 queries per work-item
         } else {
           k("feature_knn").args(N_, b.in, k_nn, enc_, C_, b.in_off, sq_, nbr_).run_1d(N_, 16);
