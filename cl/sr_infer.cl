@@ -327,6 +327,27 @@ void knn_insert16(const float16 d, const uint jb, const uint k, float* bd, int* 
   }
 }
 
+// The dot products of queries q0…q7 (named variables in the caller) with
+// candidates j0…j0 + 31 of the transposed features hT (D × Np): a##n the
+// lower 16 candidates, b##n the upper, accumulated in index order with fma.
+// Named accumulators because PoCL keeps no private array in registers; two
+// 16-wide candidate blocks per query so that each step's query value feeds
+// two fmas (measured on ICT: 18.4 → 13.5 ms per frame against one block).
+#define KNN_ZERO(n) float16 a##n = (float16)(0.0f), b##n = (float16)(0.0f);
+#define KNN_STEP(n)                         \
+  {                                         \
+    const float16 v = (float16)(row[q##n]); \
+    a##n = fma(v, ha, a##n);                \
+    b##n = fma(v, hb, b##n);                \
+  }
+#define KNN_BLOCK_DOTS(hT, Np, D, j0)                                             \
+  ROWS8(KNN_ZERO)                                                                 \
+  for (uint c = 0; c < (D); ++c) {                                                \
+    __global const float* row = (hT) + (size_t)c * (Np);                          \
+    const float16 ha = vload16(0, row + (j0)), hb = vload16(0, row + (j0) + 16); \
+    ROWS8(KNN_STEP)                                                               \
+  }
+
 // feature_knn with explicit SIMD for CPU devices: one work-item takes
 // KNN_QUERIES queries and scans the candidates 32 at a time from the
 // transposed features hT (D × Np, Np = N rounded up to 32, zero-padded;
@@ -359,23 +380,7 @@ __kernel void feature_knn_simd(const uint N, const uint Np, const uint D, const 
 #undef QUERY
   const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   for (uint j0 = 0; j0 < Np; j0 += 32) {
-    // Two 16-wide candidate blocks per query: each step's query value then
-    // feeds two fmas (measured on ICT: 18.4 → 13.5 ms per frame).
-#define ZERO(q) float16 a##q = (float16)(0.0f), b##q = (float16)(0.0f);
-    ROWS8(ZERO)
-#undef ZERO
-    for (uint c = 0; c < D; ++c) {
-      __global const float* row = hT + (size_t)c * Np;
-      const float16 ha = vload16(0, row + j0), hb = vload16(0, row + j0 + 16);
-#define STEP(n)                             \
-  {                                         \
-    const float16 v = (float16)(row[q##n]); \
-    a##n = fma(v, ha, a##n);                \
-    b##n = fma(v, hb, b##n);                \
-  }
-      ROWS8(STEP)
-#undef STEP
-    }
+    KNN_BLOCK_DOTS(hT, Np, D, j0)
     // Distances, and one test of all 256 against the queries' k-th
     // distances: after the first blocks nearly every block fails it, and the
     // per-query insertion (measured: half the k-NN time when it ran for
@@ -518,21 +523,7 @@ __kernel void feature_knn_symmetric(const uint N, const uint Np, const uint D, _
 #undef QUERY
   const uint own = i0 / 32 * 32;
   for (uint j0 = own; j0 < Np; j0 += 32) {
-#define ZERO(q) float16 a##q = (float16)(0.0f), b##q = (float16)(0.0f);
-    ROWS8(ZERO)
-#undef ZERO
-    for (uint c = 0; c < D; ++c) {
-      __global const float* row = hT + (size_t)c * Np;
-      const float16 ha = vload16(0, row + j0), hb = vload16(0, row + j0 + 16);
-#define STEP(n)                             \
-  {                                         \
-    const float16 v = (float16)(row[q##n]); \
-    a##n = fma(v, ha, a##n);                \
-    b##n = fma(v, hb, b##n);                \
-  }
-      ROWS8(STEP)
-#undef STEP
-    }
+    KNN_BLOCK_DOTS(hT, Np, D, j0)
     const float16 sqa = vload16(0, sq + j0), sqb = vload16(0, sq + j0 + 16);
     // Off the own block the candidates' bounds apply too (column side);
     // in it every pair is some query's row side already.

@@ -299,10 +299,7 @@ class ClSimulator final : public Simulator {
     // α = 0, β = 0.5 and flags running: the update's full work, d unchanged.
     cg_.upload(std::vector<Real>{Real(1), Real(0), Real(0.5), Real(1), Real(0)}.data(), 5);
     time("cg_single_update", [&] {
-      k("cg_single_update")
-          .args(N, cg_, no_stop_, z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
-                LocalMemory{local_ * sizeof(Real)})
-          .run_1d(N, local_);
+      enqueue_cg_update(no_stop_);
     });
     time("cg_scalars", [&] { k("cg_scalars").args(cl_uint(node_groups_), partial_, partial2_, cg_, cg_flags_).run_1d(1, 1); });
     // An iteration as pcg queues it (no read-back), stopped at once: the launches alone.
@@ -310,24 +307,15 @@ class ClSimulator final : public Simulator {
     cg_flags_.upload(stopped, 2);
     time("stopped iteration", [&] {
       k("cg_scalars").args(cl_uint(node_groups_), partial_, partial2_, cg_, cg_flags_).run_1d(1, 1);
-      k("cg_single_update")
-          .args(N, cg_, cg_flags_, z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
-                LocalMemory{local_ * sizeof(Real)})
-          .run_1d(N, local_);
+      enqueue_cg_update(cg_flags_);
       enqueue_product_dot(z_, q_, cg_flags_);
     });
     time("queued iteration", [&] {
-      k("cg_single_update")
-          .args(N, cg_, no_stop_, z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
-                LocalMemory{local_ * sizeof(Real)})
-          .run_1d(N, local_);
+      enqueue_cg_update(no_stop_);
       enqueue_product_dot(z_, q_, no_stop_);
     });
     time("whole iteration", [&] {
-      k("cg_single_update")
-          .args(N, cg_, no_stop_, z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
-                LocalMemory{local_ * sizeof(Real)})
-          .run_1d(N, local_);
+      enqueue_cg_update(no_stop_);
       enqueue_product_dot(z_, q_, no_stop_);
       sum_partials(1);
     });
@@ -437,6 +425,15 @@ class ClSimulator final : public Simulator {
   }
 
   // The same, left in the queue: the partial sums of p·q land in partial_.
+  // One CG iteration's vector update with the device's α and β (see pcg);
+  // nothing is done once flags[0] ≠ 0.
+  void enqueue_cg_update(const Buffer<cl_int>& flags) {
+    k("cg_single_update")
+        .args(uint32_t(m_.num_nodes), cg_, flags, z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
+              LocalMemory{local_ * sizeof(Real)})
+        .run_1d(m_.num_nodes, local_);
+  }
+
   // Nothing is done while stop[0] ≠ 0 (see pcg).
   void enqueue_product_dot(const Buffer<Real>& p, Buffer<Real>& q, const Buffer<cl_int>& stop) {
     const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes;
@@ -564,10 +561,7 @@ class ClSimulator final : public Simulator {
       const int count = std::min(batch, opt_.cg_max - queued);
       for (int i = 0; i < count; ++i) {
         k("cg_scalars").args(cl_uint(node_groups_), partial_, partial2_, cg_, cg_flags_).run_1d(1, 1);
-        k("cg_single_update")
-            .args(N, cg_, cg_flags_, z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
-                  LocalMemory{local_ * sizeof(Real)})
-            .run_1d(N, local_);
+        enqueue_cg_update(cg_flags_);
         enqueue_product_dot(z_, q_, cg_flags_);
       }
       queued += count;
