@@ -276,6 +276,35 @@ float dot_rows(__global const float* a, __global const float* b, const uint D) {
   return t;
 }
 
+// Inserts candidate j at distance v into a query's k best (bd ascending,
+// bi their indices) if it is strictly nearer than the k-th: with
+// candidates offered in increasing index, ties keep the lower index.
+void knn_insert(const float v, const int j, const uint k, float* bd, int* bi) {
+  if (!(v < bd[k - 1])) return;
+  int t = (int)k - 1;
+  while (t > 0 && v < bd[t - 1]) {
+    bd[t] = bd[t - 1];
+    bi[t] = bi[t - 1];
+    --t;
+  }
+  bd[t] = v;
+  bi[t] = j;
+}
+
+// The same for candidates in any order: ordered by (distance, index).
+bool knn_before(const float v, const int j, const float bv, const int bj) { return v < bv || (v == bv && j < bj); }
+void knn_insert_ordered(const float v, const int j, const uint k, float* bd, int* bi) {
+  if (!knn_before(v, j, bd[k - 1], bi[k - 1])) return;
+  int t = (int)k - 1;
+  while (t > 0 && knn_before(v, j, bd[t - 1], bi[t - 1])) {
+    bd[t] = bd[t - 1];
+    bi[t] = bi[t - 1];
+    --t;
+  }
+  bd[t] = v;
+  bi[t] = j;
+}
+
 __kernel void feature_knn(const uint N, const uint D, const uint k, __global const float* h, const uint s,
                           const uint off, __global const float* sq, __global int* nbr) {
   const uint i = get_global_id(0);
@@ -291,18 +320,8 @@ __kernel void feature_knn(const uint N, const uint D, const uint k, __global con
   }
   for (uint j = 0; j < N; ++j) {
     if (j == i) continue;
-    const float d = sqi + sq[j] - 2.0f * dot_rows(q, h + (size_t)j * s, D);
     // Candidates come in increasing index, so a tie never displaces an earlier one.
-    if (d < bd[k - 1]) {
-      int t = (int)k - 1;
-      while (t > 0 && d < bd[t - 1]) {
-        bd[t] = bd[t - 1];
-        bi[t] = bi[t - 1];
-        --t;
-      }
-      bd[t] = d;
-      bi[t] = (int)j;
-    }
+    knn_insert(sqi + sq[j] - 2.0f * dot_rows(q, h + (size_t)j * s, D), (int)j, k, bd, bi);
   }
   for (uint t = 0; t < k; ++t) nbr[(size_t)i * k + t] = bi[t];
 }
@@ -312,19 +331,7 @@ __kernel void feature_knn(const uint N, const uint D, const uint k, __global con
 void knn_insert16(const float16 d, const uint jb, const uint k, float* bd, int* bi) {
   float t16[16];
   vstore16(d, 0, t16);
-  for (uint l = 0; l < 16; ++l) {
-    const float v = t16[l];
-    if (v < bd[k - 1]) {
-      int t = (int)k - 1;
-      while (t > 0 && v < bd[t - 1]) {
-        bd[t] = bd[t - 1];
-        bi[t] = bi[t - 1];
-        --t;
-      }
-      bd[t] = v;
-      bi[t] = (int)(jb + l);
-    }
-  }
+  for (uint l = 0; l < 16; ++l) knn_insert(t16[l], (int)(jb + l), k, bd, bi);
 }
 
 // The dot products of queries q0…q7 (named variables in the caller) with
@@ -467,14 +474,7 @@ __kernel void knn_bounds(const uint N, const uint D, const uint k, __global cons
       for (uint t = 0; t < k; ++t) fresh = fresh && bi[t] != j;
       if (!fresh) continue;
       sqmax = fmax(sqmax, sq[j]);
-      int t = (int)k - 1;
-      while (t > 0 && v < bd[t - 1]) {
-        bd[t] = bd[t - 1];
-        bi[t] = bi[t - 1];
-        --t;
-      }
-      bd[t] = v;
-      bi[t] = j;
+      knn_insert(v, j, k, bd, bi);
     }
   }
   // Fewer than k distinct nodes known: no bound (every candidate is
@@ -576,18 +576,7 @@ __kernel void knn_select(const uint N, const uint k, __global int* count, __glob
     bi[t] = 0x7fffffff;
   }
   for (int e = 0; e < n; ++e) {
-    const float v = list_d[(size_t)i * KNN_LIST + e];
-    const int j = list_j[(size_t)i * KNN_LIST + e];
-    if (v < bd[k - 1] || (v == bd[k - 1] && j < bi[k - 1])) {
-      int t = (int)k - 1;
-      while (t > 0 && (v < bd[t - 1] || (v == bd[t - 1] && j < bi[t - 1]))) {
-        bd[t] = bd[t - 1];
-        bi[t] = bi[t - 1];
-        --t;
-      }
-      bd[t] = v;
-      bi[t] = j;
-    }
+    knn_insert_ordered(list_d[(size_t)i * KNN_LIST + e], list_j[(size_t)i * KNN_LIST + e], k, bd, bi);
   }
   for (uint t = 0; t < k; ++t) nbr[(size_t)i * k + t] = bi[t];
 }
@@ -645,17 +634,7 @@ __kernel void feature_knn_pruned(const uint N, const uint D, const uint k, __glo
       if (dl <= dh) lo = -1; else hi = (int)N;
       continue;
     }
-    const float d = sqi + sq[j] - 2.0f * dot_rows(q, h + (size_t)j * s, D);
-    if (d < bd[k - 1] || (d == bd[k - 1] && (int)j < bi[k - 1])) {
-      int t = (int)k - 1;
-      while (t > 0 && (d < bd[t - 1] || (d == bd[t - 1] && (int)j < bi[t - 1]))) {
-        bd[t] = bd[t - 1];
-        bi[t] = bi[t - 1];
-        --t;
-      }
-      bd[t] = d;
-      bi[t] = (int)j;
-    }
+    knn_insert_ordered(sqi + sq[j] - 2.0f * dot_rows(q, h + (size_t)j * s, D), (int)j, k, bd, bi);
   }
   for (uint t = 0; t < k; ++t) nbr[(size_t)i * k + t] = bi[t];
 }
