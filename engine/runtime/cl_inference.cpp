@@ -212,7 +212,6 @@ class ClInference final : public SrInference {
             k("knn_select").args(N_, k_nn, count_, list_d_, list_j_, known_[s], redo_count_, redo_).run_1d(N_, 64);
             cl_int redo = 0;
             redo_count_.download(&redo, 1);
-            last_knn_redo_ = redo;
             if (redo > 0)
               k("feature_knn_simd")
                   .args(N_, Np_, b.in, k_nn, hT_, sq_, redo_, uint32_t(redo), known_[s])
@@ -402,7 +401,6 @@ class ClInference final : public SrInference {
   std::vector<Buffer<cl_int>> known_;
   std::vector<bool> have_known_;
   Buffer<cl_int> redo_count_, redo_, no_rows_;  // no_rows_: empty, binds as NULL
-  int last_knn_redo_ = 0;
   std::vector<float> host_h_;
   std::vector<double> u_;
   size_t pool_local_ = 64;
