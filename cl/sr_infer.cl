@@ -276,6 +276,16 @@ float dot_rows(__global const float* a, __global const float* b, const uint D) {
   return t;
 }
 
+// A query's k best before any candidate: no node (KNN_NONE, above every
+// index so that the ordered insertion's ties never prefer it) at +∞.
+#define KNN_NONE 0x7fffffff
+void knn_init(const uint k, float* bd, int* bi) {
+  for (uint t = 0; t < k; ++t) {
+    bd[t] = INFINITY;
+    bi[t] = KNN_NONE;
+  }
+}
+
 // Inserts candidate j at distance v into a query's k best (bd ascending,
 // bi their indices) if it is strictly nearer than the k-th: with
 // candidates offered in increasing index, ties keep the lower index.
@@ -314,10 +324,7 @@ __kernel void feature_knn(const uint N, const uint D, const uint k, __global con
   const float sqi = sq[i];
   float bd[KNN_MAX_K];
   int bi[KNN_MAX_K];
-  for (uint t = 0; t < k; ++t) {
-    bd[t] = INFINITY;
-    bi[t] = 0x7fffffff;
-  }
+  knn_init(k, bd, bi);
   for (uint j = 0; j < N; ++j) {
     if (j == i) continue;
     // Candidates come in increasing index, so a tie never displaces an earlier one.
@@ -372,11 +379,7 @@ __kernel void feature_knn_simd(const uint N, const uint Np, const uint D, const 
   if (i0 >= R) return;
   float bd[KNN_QUERIES][KNN_MAX_K];
   int bi[KNN_QUERIES][KNN_MAX_K];
-  for (uint q = 0; q < KNN_QUERIES; ++q)
-    for (uint t = 0; t < k; ++t) {
-      bd[q][t] = INFINITY;
-      bi[q][t] = 0x7fffffff;
-    }
+  for (uint q = 0; q < KNN_QUERIES; ++q) knn_init(k, bd[q], bi[q]);
   // Per query: index, |h|² and the current k-th distance, as named scalars
   // (PoCL keeps no private array in registers).
 #define QUERY(n)                                                        \
@@ -446,10 +449,7 @@ __kernel void knn_bounds(const uint N, const uint D, const uint k, __global cons
   __global const float* hi = h + (size_t)i * s;
   float bd[KNN_MAX_K];
   int bi[KNN_MAX_K];
-  for (uint t = 0; t < k; ++t) {
-    bd[t] = INFINITY;
-    bi[t] = -1;
-  }
+  knn_init(k, bd, bi);
   float sqmax = 0.0f;
   for (uint a = 0; a <= k; ++a) {
     // a = 0: i's own known neighbours; a > 0: those of its (a−1)-th one.
@@ -479,7 +479,7 @@ __kernel void knn_bounds(const uint N, const uint D, const uint k, __global cons
   }
   // Fewer than k distinct nodes known: no bound (every candidate is
   // recorded, and the lists overflow to a full scan).
-  tau[i] = bi[k - 1] < 0 ? INFINITY : bd[k - 1] + 1e-5f * (sq[i] + sqmax);
+  tau[i] = bi[k - 1] == KNN_NONE ? INFINITY : bd[k - 1] + 1e-5f * (sq[i] + sqmax);
 }
 
 void knn_append(__global volatile int* count, __global float* list_d, __global int* list_j, const uint row,
@@ -571,10 +571,7 @@ __kernel void knn_select(const uint N, const uint k, __global int* count, __glob
   }
   float bd[KNN_MAX_K];
   int bi[KNN_MAX_K];
-  for (uint t = 0; t < k; ++t) {
-    bd[t] = INFINITY;
-    bi[t] = 0x7fffffff;
-  }
+  knn_init(k, bd, bi);
   for (int e = 0; e < n; ++e) {
     knn_insert_ordered(list_d[(size_t)i * KNN_LIST + e], list_j[(size_t)i * KNN_LIST + e], k, bd, bi);
   }
@@ -617,10 +614,7 @@ __kernel void feature_knn_pruned(const uint N, const uint D, const uint k, __glo
   const float pv = proj_sorted[pos];
   float bd[KNN_MAX_K];
   int bi[KNN_MAX_K];
-  for (uint t = 0; t < k; ++t) {
-    bd[t] = INFINITY;
-    bi[t] = 0x7fffffff;
-  }
+  knn_init(k, bd, bi);
   int lo = pos - 1, hi = pos + 1;
   while (lo >= 0 || hi < (int)N) {
     const float dl = lo >= 0 ? pv - proj_sorted[lo] : INFINITY;
