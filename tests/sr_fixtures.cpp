@@ -8,14 +8,15 @@
 
 namespace facesr::fixtures {
 
-std::shared_ptr<SrModel> random_model(bool fe, bool cu, uint64_t seed, bool skip, bool zero_rest) {
+std::shared_ptr<SrModel> random_model(bool fe, bool cu, uint64_t seed, bool skip, bool zero_rest,
+                                      std::vector<int> recon_hidden) {
   const Rig& rig = procedural_rig();
   auto m = std::make_shared<SrModel>();
   m->arch.feature_encoding = fe;
   m->arch.coordinate_upsampling = cu;
   m->arch.embedded_skip = skip;
   m->arch.zero_rest = zero_rest;
-  m->arch.recon_hidden = {64, 64};
+  m->arch.recon_hidden = std::move(recon_hidden);
   m->rig_name = rig.name;
   m->rig_checksum = rig_checksum(rig);
   m->geometry = build_sr_geometry(rig);

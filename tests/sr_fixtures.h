@@ -3,6 +3,7 @@
 // (SIREN-initialised) weights on the coarse procedural rig, exported as a
 // model file would hold it.
 #include <memory>
+#include <vector>
 
 #include <torch/torch.h>
 
@@ -12,7 +13,7 @@ namespace facesr::fixtures {
 
 std::shared_ptr<SrModel> random_model(bool feature_encoding = true, bool coordinate_upsampling = true,
                                       uint64_t seed = 1, bool embedded_skip = false,
-                                      bool zero_rest = false);
+                                      bool zero_rest = false, std::vector<int> recon_hidden = {64, 64});
 // F frames of smooth LR displacements of a plausible size (a few mm): F × N × 3.
 torch::Tensor lr_frames(const SrModel& m, int F);
 

@@ -155,6 +155,35 @@ TEST(RuntimeInference, EveryFeatureKnnVariantGivesTheSameOutputAsTheFullScan) {
   EXPECT_THROW(make_cl_inference(m, bad), Error);
 }
 
+// The CPU dense kernels with 16 and 32 outputs per work-item sum each
+// output in the same order: bit-identical outputs. A reconstruction layer
+// of 50 outputs (padded to 64) exercises the 32-wide kernel's partial half.
+TEST(RuntimeInference, DenseKernelWidthsGiveIdenticalOutputs) {
+  const auto m = random_model(true, true, 23, false, false, {50, 64});
+  const auto lr = lr_frames(*m, 2);
+  const auto ref = TorchPredictor(*m).predict(lr);
+  auto with = [&](int width) {
+    ClInferenceOptions o;
+    o.kernels = ClKernels::Simd;
+    o.dense_width = width;
+    return make_cl_inference(m, o);
+  };
+  auto w16 = with(16), w32 = with(32), automatic = with(0);
+  for (int64_t f = 0; f < lr.size(0); ++f) {
+    std::vector<float> a(size_t(3 * m->num_hr)), b(a.size()), c(a.size());
+    const auto in = lr[f].contiguous();
+    w16->infer(in.data_ptr<float>(), a.data());
+    w32->infer(in.data_ptr<float>(), b.data());
+    automatic->infer(in.data_ptr<float>(), c.data());
+    EXPECT_EQ(a, b) << "frame " << f;
+    EXPECT_EQ(a, c) << "frame " << f;
+  }
+  EXPECT_LT(worst_difference(*w32, lr, ref, m->num_hr), 1e-4);
+  ClInferenceOptions bad;
+  bad.dense_width = 24;
+  EXPECT_THROW(make_cl_inference(m, bad), Error);
+}
+
 TEST(RuntimeInference, OpenClProfileNamesEveryStage) {
   const auto m = random_model(true, true, 2);
   ClInferenceOptions o;

@@ -60,6 +60,8 @@ class ClInference final : public SrInference {
     M_ = uint32_t(plan.M);
     K_ = uint32_t(plan.K);
     require(a.graph_k <= 16, "OpenCL inference: graph_k " + std::to_string(a.graph_k) + " is above the kernels' 16");
+    require(opt.dense_width == 0 || opt.dense_width == 16 || opt.dense_width == 32,
+            "OpenCL inference: dense_width " + std::to_string(opt.dense_width) + " is not 0, 16 or 32");
     require(opt.knn_list >= 1 && opt.knn_list <= 4096,
             "OpenCL inference: knn_list " + std::to_string(opt.knn_list) + " is outside 1…4096");
     prog_ = ctx_.build_program({"sr_infer.cl"}, "-cl-std=CL1.2 -DKNN_LIST=" + std::to_string(opt.knn_list));
@@ -67,7 +69,7 @@ class ClInference final : public SrInference {
     const bool cpu_device = ctx_.device().type != compute::DeviceType::Gpu;
     simd_ = opt.kernels == ClKernels::Auto ? cpu_device : opt.kernels == ClKernels::Simd;
     knn_ = opt.knn != ClKnn::Auto ? opt.knn : cpu_device ? ClKnn::Symmetric : ClKnn::Full;
-    for (const char* k : {"sr_input", "dense_simd", "dense_tiled", "edge_max", "edge_max_simd", "pool_columns", "pool_columns_simd", "pooled_bias",
+    for (const char* k : {"sr_input", "dense_simd", "dense_simd32", "dense_tiled", "edge_max", "edge_max_simd", "pool_columns", "pool_columns_simd", "pooled_bias",
                           "row_sqnorm", "feature_knn", "feature_knn_simd", "feature_knn_pruned", "transpose_columns16",
                           "knn_bounds", "feature_knn_symmetric", "knn_select",
                           "copy_columns", "add_embedded", "upsample_features", "upsample_features_simd"})
@@ -370,10 +372,11 @@ class ClInference final : public SrInference {
     const uint32_t K1 = L.in - K2;
     const float slope = float(m_->arch.leaky_slope);
     if (simd_) {
-      k("dense_simd")
+      const uint32_t width = opt_.dense_width == 16 || L.P % 32 != 0 ? 16 : 32;
+      k(width == 32 ? "dense_simd32" : "dense_simd")
           .args(rows, L.out, L.P, K1, K2, a1, s1, off1, a2, s2, off2, L.W, bias, out, out_stride, out_off,
                 cl_int(act), omega0, slope)
-          .run_1d(size_t((rows + 7) / 8) * (L.P / 16), 8);
+          .run_1d(size_t((rows + 7) / 8) * (L.P / width), 8);
     } else {
       const size_t tiles = ((rows + kTile - 1) / kTile) * ((L.out + kTile - 1) / kTile);
       k("dense_tiled")

@@ -58,6 +58,10 @@ struct ClInferenceOptions {
   // devices and the local-memory Tiled ones on GPUs; either runs anywhere
   // (so that tests cover the GPU path on a CPU device).
   ClKernels kernels = ClKernels::Auto;
+  // Simd dense layers: outputs per work-item. 0 (automatic) or 32: 32 where
+  // the layer's padded width is a multiple of 32, else 16; 16: always 16.
+  // The results are bit-identical either way.
+  int dense_width = 0;
 };
 std::unique_ptr<SrInference> make_cl_inference(std::shared_ptr<const SrModel> model,
                                                const ClInferenceOptions& opt = {});
