@@ -263,14 +263,37 @@ FSR_FN FSR_T FSR(energy_density)(const fsr_material* m, const FSR_T* F, const FS
   return FSR(iso_energy_F)(m, F) + FSR_IF(phi > 0, fibre, FSR_C(0));
 }
 
-// First Piola-Kirchhoff stress P = ∂Ψ/∂F.
+// First Piola-Kirchhoff stress P = ∂Ψ/∂F, from the invariants like the
+// energy: with ∂I1/∂F = 2F, ∂I2/∂F = 2(I1 F − F C) and ∂J/∂F = cof F (valid
+// for inverted tets too),
+//   P = A cof F + 2 μ10 f F + 2 μ01 g (I1 F − F C),  A = μ10 f' I1 + μ01 g' I2 + κ (J − 1),
+// the same function as U P̂(σ) Vᵀ from iso_diag (tested) without the SVD,
+// which took 85 % of the gradient kernel. Only the stiffness needs the
+// diagonal frame (for the definiteness fix).
 FSR_FN void FSR(stress)(const fsr_material* m, const FSR_T* F, const FSR_T* a, FSR_T phi, FSR_T alpha, FSR_T* P) {
-  FSR_T U[9], s[3], V[9], Ph[3], H[9], lam[6];
-  FSR(svd3)(F, U, s, V);
-  FSR(iso_diag)(m, s, Ph, H, lam);
+  FSR_T C[9], FC[9], cof[9];
   FSR_UNROLL for (int i = 0; i < 3; ++i)
-    FSR_UNROLL for (int j = 0; j < 3; ++j)
-      P[3 * i + j] = U[3 * i] * Ph[0] * V[3 * j] + U[3 * i + 1] * Ph[1] * V[3 * j + 1] + U[3 * i + 2] * Ph[2] * V[3 * j + 2];
+    FSR_UNROLL for (int j = 0; j < 3; ++j) C[3 * i + j] = F[i] * F[j] + F[3 + i] * F[3 + j] + F[6 + i] * F[6 + j];
+  FSR(mat3_mul)(F, C, FC);
+  const FSR_T I1 = C[0] + C[4] + C[8];
+  FSR_T trC2 = FSR_C(0);
+  FSR_UNROLL for (int i = 0; i < 9; ++i) trC2 += C[i] * C[i];
+  const FSR_T I2 = (fsr_real)0.5 * (I1 * I1 - trC2);
+  cof[0] = F[4] * F[8] - F[5] * F[7];
+  cof[1] = F[5] * F[6] - F[3] * F[8];
+  cof[2] = F[3] * F[7] - F[4] * F[6];
+  cof[3] = F[2] * F[7] - F[1] * F[8];
+  cof[4] = F[0] * F[8] - F[2] * F[6];
+  cof[5] = F[1] * F[6] - F[0] * F[7];
+  cof[6] = F[1] * F[5] - F[2] * F[4];
+  cof[7] = F[2] * F[3] - F[0] * F[5];
+  cof[8] = F[0] * F[4] - F[1] * F[3];
+  const FSR_T J = F[0] * cof[0] + F[1] * cof[1] + F[2] * cof[2];
+  FSR_T f[3], g[3];
+  FSR(dev_factors)(m, J, f, g);
+  const FSR_T A = m->mu10 * f[1] * I1 + m->mu01 * g[1] * I2 + m->kappa * (J - 1);
+  const FSR_T bF = 2 * m->mu10 * f[0] + 2 * m->mu01 * g[0] * I1, bFC = 2 * m->mu01 * g[0];
+  FSR_UNROLL for (int k = 0; k < 9; ++k) P[k] = A * cof[k] + bF * F[k] - bFC * FC[k];
   FSR_T Fa[3], d1, d2;
   const FSR_T l = FSR(fibre_stretch)(F, a, Fa);
   const FSR_M on = phi > 0 && l > (fsr_real)1e-12;
