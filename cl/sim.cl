@@ -611,58 +611,73 @@ __kernel void gather_dot(const uint N, __global const int* inc_offset, __global 
   if (lid == 0) partial[get_group_id(0)] = s1[0];
 }
 
-// The single-reduction CG's scalar recurrences on the device (see
-// ClSimulator::pcg), one work-item, so that the host need not read back
-// every iteration. cg[]: γ, α, β, denominator p·Kp, and the stopping
-// threshold on |r|; flags[0]: 0 running, 1 converged, 2 negative curvature;
-// flags[1]: iterations taken. From the previous iteration's partial sums
-// (u·Ku in `partial`, r·r and r·u interleaved in `partial2`, groups of each)
-// it tests convergence, forms β and the new denominator, then α; the same
-// operations in the same order as the host loop they replace, so the
-// iterates are the same.
-__kernel void cg_scalars(const uint groups, __global const fsr_real* partial, __global const fsr_real* partial2,
-                         __global fsr_real* cg, __global int* flags) {
-  if (get_global_id(0) != 0 || flags[0] != 0) return;
-  if (flags[1] > 0) {
-    fsr_real delta = 0, rr = 0, gamma1 = 0;
-    for (uint i = 0; i < groups; ++i) delta += partial[i];
-    for (uint i = 0; i < groups; ++i) {
-      rr += partial2[2 * i];
-      gamma1 += partial2[2 * i + 1];
-    }
-    if (sqrt(rr) <= cg[4]) {
-      flags[0] = 1;
-      return;
-    }
-    const fsr_real beta = gamma1 / cg[0];
-    cg[3] = delta - beta * gamma1 / cg[1];
-    cg[2] = beta;
-    cg[0] = gamma1;
-  }
-  if (!(cg[3] > 0)) {
-    flags[0] = 2;
-    return;
-  }
-  cg[1] = cg[0] / cg[3];
-  flags[1] += 1;
-}
-
-// One iteration's vector work of the single-reduction CG (Chronopoulos and
-// Gear 1989; see ClSimulator::pcg): p = u + β p, s = w + β s (s = K p),
-// d += α p, r −= α s, u = M⁻¹ r, and partial sums of r·r and r·u. With
-// w = K u from the product that follows, all of an iteration's scalars come
-// from one reduction. α and β come from cg_scalars; nothing is done once
-// flags[0] says the solve has stopped.
-__kernel void cg_single_update(const uint N, __global const fsr_real* cg, __global const int* flags,
-                               __global fsr_real* u, __global const fsr_real* w, __global fsr_real* p,
-                               __global fsr_real* s, __global fsr_real* d, __global fsr_real* r,
-                               __global const fsr_real* Minv, __global fsr_real* partial, __local fsr_real* s1,
-                               __local fsr_real* s2) {
-  if (flags[0] != 0) return;
-  const fsr_real alpha = cg[1], beta = cg[2];
+// One iteration of the single-reduction CG (Chronopoulos and Gear 1989; see
+// ClSimulator::pcg) in one launch: the scalar recurrences, then the vector
+// work. Each work-group's first work-item forms the scalars from the
+// previous iteration's partial sums (u·Ku in `partial`, r·r and r·u
+// interleaved in `partial2_in`, `groups` of each), the same operations in
+// the same order in every group, so every group gets the same α and β;
+// group 0 also records them in cg_out and the state in flags. cg[]: γ, α,
+// β, denominator p·Kp, the stopping threshold on |r|; flags[0]: 0 running,
+// 1 converged, 2 negative curvature; flags[1]: iterations taken. The
+// scalars and partial sums are double-buffered by iteration (the host
+// swaps cg_in/cg_out and partial2_in/_out), so no group reads what another
+// writes in the same launch. Only first work-items read flags, and group 0
+// writes them only when every group stops too, so the groups' barriers are
+// never divergent. Then p = u + β p, s = w + β s (s = K p), d += α p,
+// r −= α s, u = M⁻¹ r, and partial sums of r·r and r·u; with w = K u from
+// the product that follows, all of the next iteration's scalars come from
+// one reduction.
+__kernel void cg_iteration(const uint N, const uint groups, const int first, __global const fsr_real* partial,
+                           __global const fsr_real* partial2_in, __global const fsr_real* cg_in,
+                           __global fsr_real* cg_out, __global int* flags, __global fsr_real* u,
+                           __global const fsr_real* w, __global fsr_real* p, __global fsr_real* s,
+                           __global fsr_real* d, __global fsr_real* r, __global const fsr_real* Minv,
+                           __global fsr_real* partial2_out, __local fsr_real* s1, __local fsr_real* s2) {
+  __local int state_l[1];
+  __local fsr_real ab_l[2];
   const uint v = get_global_id(0), lid = get_local_id(0);
+  if (lid == 0) {
+    int state = flags[0];
+    fsr_real gamma = cg_in[0], alpha = cg_in[1], beta = cg_in[2], denom = cg_in[3];
+    if (state == 0 && !first) {
+      fsr_real delta = 0, rr = 0, gamma1 = 0;
+      for (uint i = 0; i < groups; ++i) delta += partial[i];
+      for (uint i = 0; i < groups; ++i) {
+        rr += partial2_in[2 * i];
+        gamma1 += partial2_in[2 * i + 1];
+      }
+      if (sqrt(rr) <= cg_in[4]) {
+        state = 1;
+      } else {
+        beta = gamma1 / gamma;
+        denom = delta - beta * gamma1 / alpha;
+        gamma = gamma1;
+      }
+    }
+    if (state == 0 && !(denom > 0)) state = 2;
+    if (state == 0) alpha = gamma / denom;
+    if (get_group_id(0) == 0 && flags[0] == 0) {
+      if (state != 0) {
+        flags[0] = state;
+      } else {
+        cg_out[0] = gamma;
+        cg_out[1] = alpha;
+        cg_out[2] = beta;
+        cg_out[3] = denom;
+        cg_out[4] = cg_in[4];
+        flags[1] += 1;
+      }
+    }
+    state_l[0] = state;
+    ab_l[0] = alpha;
+    ab_l[1] = beta;
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  const int state = state_l[0];
+  const fsr_real alpha = ab_l[0], beta = ab_l[1];
   fsr_real rr = 0, ru = 0;
-  if (v < N) {
+  if (state == 0 && v < N) {
     fsr_real rv[3];
     for (int c = 0; c < 3; ++c) {
       const size_t i = 3 * (size_t)v + c;
@@ -684,9 +699,9 @@ __kernel void cg_single_update(const uint N, __global const fsr_real* cg, __glob
   s1[lid] = rr;
   s2[lid] = ru;
   group_sum2(s1, s2);
-  if (lid == 0) {
-    partial[2 * get_group_id(0)] = s1[0];
-    partial[2 * get_group_id(0) + 1] = s2[0];
+  if (lid == 0 && state == 0) {
+    partial2_out[2 * get_group_id(0)] = s1[0];
+    partial2_out[2 * get_group_id(0) + 1] = s2[0];
   }
 }
 

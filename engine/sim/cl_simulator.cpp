@@ -104,14 +104,16 @@ class ClSimulator final : public Simulator {
     groups_ = 64;
     node_groups_ = (N + local_ - 1) / local_;
     partial_ = Buffer<Real>(ctx_, 2 * std::max(groups_, node_groups_));
-    partial2_ = Buffer<Real>(ctx_, 2 * node_groups_);
-    cg_ = Buffer<Real>(ctx_, 5);
+    for (int b = 0; b < 2; ++b) {
+      partial2_[b] = Buffer<Real>(ctx_, 2 * node_groups_);
+      cg_[b] = Buffer<Real>(ctx_, 5);
+    }
     cg_flags_ = Buffer<cl_int>(ctx_, 2);
     no_stop_ = Buffer<cl_int>(ctx_, std::vector<cl_int>{0}, CL_MEM_READ_ONLY);
     for (const char* k : {"frame_tet_alpha", "frame_targets", "frame_targets8", "apply_dirichlet", "tet_energy", "tet_gradient",
                           "tet_hessian", "tet_energy8", "tet_gradient8", "tet_hessian8", "surface_terms", "gather_nodes",
                           "gather_diag_inverse", "precondition", "dot2_partial", "sum_partial",
-                          "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "cg_scalars", "cg_single_update", "tet_inverted", "embed_surface"})
+                          "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "cg_iteration", "tet_inverted", "embed_surface"})
       kernels_.emplace(k, prog_.kernel(k));
     reset();
   }
@@ -296,28 +298,26 @@ class ClSimulator final : public Simulator {
           .run_1d(N, local_);
     });
     time("partials read", [&] { sum_partials(1); });
-    // α = 0, β = 0.5 and flags running: the update's full work, d unchanged.
-    cg_.upload(std::vector<Real>{Real(1), Real(0), Real(0.5), Real(1), Real(0)}.data(), 5);
-    time("cg_single_update", [&] {
-      enqueue_cg_update(no_stop_);
-    });
-    time("cg_scalars", [&] { k("cg_scalars").args(cl_uint(node_groups_), partial_, partial2_, cg_, cg_flags_).run_1d(1, 1); });
-    // An iteration as pcg queues it (no read-back), stopped at once: the launches alone.
-    const cl_int stopped[2] = {1, 0};
-    cg_flags_.upload(stopped, 2);
-    time("stopped iteration", [&] {
-      k("cg_scalars").args(cl_uint(node_groups_), partial_, partial2_, cg_, cg_flags_).run_1d(1, 1);
-      enqueue_cg_update(cg_flags_);
+    // A first iteration (γ = δ = 1: α = 1, β = 0.5) that never stops: the
+    // iteration's full work each time.
+    cg_[0].upload(std::vector<Real>{Real(1), Real(0), Real(0.5), Real(1), Real(0)}.data(), 5);
+    const cl_int running[2] = {0, 0}, stopped[2] = {1, 0};
+    cg_flags_.upload(running, 2);
+    time("cg_iteration", [&] { enqueue_cg_iteration(0, cg_flags_); });
+    time("queued iteration", [&] {
+      enqueue_cg_iteration(0, cg_flags_);
       enqueue_product_dot(z_, q_, cg_flags_);
     });
-    time("queued iteration", [&] {
-      enqueue_cg_update(no_stop_);
-      enqueue_product_dot(z_, q_, no_stop_);
-    });
     time("whole iteration", [&] {
-      enqueue_cg_update(no_stop_);
-      enqueue_product_dot(z_, q_, no_stop_);
+      enqueue_cg_iteration(0, cg_flags_);
+      enqueue_product_dot(z_, q_, cg_flags_);
       sum_partials(1);
+    });
+    // An iteration as pcg queues it (no read-back), stopped at once: the launches alone.
+    cg_flags_.upload(stopped, 2);
+    time("stopped iteration", [&] {
+      enqueue_cg_iteration(1, cg_flags_);
+      enqueue_product_dot(z_, q_, cg_flags_);
     });
   }
 
@@ -424,12 +424,15 @@ class ClSimulator final : public Simulator {
     return sum_partials(1).first;
   }
 
-  // The same, left in the queue: the partial sums of p·q land in partial_.
-  // One CG iteration's vector update with the device's α and β (see pcg);
-  // nothing is done once flags[0] ≠ 0.
-  void enqueue_cg_update(const Buffer<cl_int>& flags) {
-    k("cg_single_update")
-        .args(uint32_t(m_.num_nodes), cg_, flags, z_, q_, p_, s_, d_, r_, Minv_, partial2_, LocalMemory{local_ * sizeof(Real)},
+  // CG iteration i (0-based) of a solve: its scalars and vector update
+  // (cg_iteration in cl/sim.cl), reading the scalars and r·r, r·u partial
+  // sums of iteration i − 1 from buffer i % 2 and writing its own to the
+  // other; nothing is done once flags[0] ≠ 0.
+  void enqueue_cg_iteration(int i, const Buffer<cl_int>& flags) {
+    const int a = i % 2, b = 1 - a;
+    k("cg_iteration")
+        .args(uint32_t(m_.num_nodes), cl_uint(node_groups_), cl_int(i == 0 ? 1 : 0), partial_, partial2_[a], cg_[a],
+              cg_[b], flags, z_, q_, p_, s_, d_, r_, Minv_, partial2_[b], LocalMemory{local_ * sizeof(Real)},
               LocalMemory{local_ * sizeof(Real)})
         .run_1d(m_.num_nodes, local_);
   }
@@ -532,7 +535,7 @@ class ClSimulator final : public Simulator {
   // (1989): the same iterates as textbook PCG in exact arithmetic, but each
   // iteration's three scalars (r·r, r·u and u·Ku, u = M⁻¹r) come from one
   // reduction after its one product. The scalar recurrences run on the
-  // device too (cg_scalars), so the host enqueues iterations in batches and
+  // device too (cg_iteration), so the host enqueues iterations in batches and
   // reads the stopping flags once per batch instead of waiting on the
   // device every iteration (on CPU devices that wait rivalled the product);
   // iterations queued after the stop do nothing. The price is one extra
@@ -550,7 +553,7 @@ class ClSimulator final : public Simulator {
     if (bnorm == 0) return 0;
     const double delta = product_dot(z_, q_);  // q_ holds w = K u
     const std::vector<Real> cg0 = {Real(gamma), Real(0), Real(0), Real(delta), Real(opt_.cg_tol * bnorm)};
-    cg_.upload(cg0.data(), cg0.size());
+    cg_[0].upload(cg0.data(), cg0.size());
     const cl_int running[2] = {0, 0};
     cg_flags_.upload(running, 2);
     // The first batch covers most solves (the last solve's count), the
@@ -560,8 +563,7 @@ class ClSimulator final : public Simulator {
     while (queued < opt_.cg_max) {
       const int count = std::min(batch, opt_.cg_max - queued);
       for (int i = 0; i < count; ++i) {
-        k("cg_scalars").args(cl_uint(node_groups_), partial_, partial2_, cg_, cg_flags_).run_1d(1, 1);
-        enqueue_cg_update(cg_flags_);
+        enqueue_cg_iteration(queued + i, cg_flags_);
         enqueue_product_dot(z_, q_, cg_flags_);
       }
       queued += count;
@@ -600,9 +602,10 @@ class ClSimulator final : public Simulator {
   Buffer<cl_int> L_offset_, L_none_offset_, L_col_, track_inc_offset_, track_inc_slot_;
   Buffer<Real> L_val_;
   bool simd_elements_ = false;
-  Buffer<Real> x_, x_prev_, xt_, g_, d_, r_, z_, p_, q_, s_, partial2_, slots_, dslots_, surfH_, Minv_, elem_, partial_;
+  Buffer<Real> x_, x_prev_, xt_, g_, d_, r_, z_, p_, q_, s_, slots_, dslots_, surfH_, Minv_, elem_, partial_;
+  Buffer<Real> partial2_[2];  // r·r and r·u partial sums, by iteration parity (see enqueue_cg_iteration)
   Buffer<float> C_;
-  Buffer<Real> cg_;              // CG scalars, see cg_scalars in cl/sim.cl
+  Buffer<Real> cg_[2];           // CG scalars by iteration parity, see cg_iteration in cl/sim.cl
   Buffer<cl_int> cg_flags_, no_stop_;
   int last_cg_iters_ = 0;
   int cg_batch_ = 0;  // ClSimulatorOptions::cg_batch        // the last solve's CG iterations: the next one's first batch
