@@ -1,0 +1,64 @@
+// `facesr model info` and `facesr model zero-rest` through the real binary:
+// the copy differs from its source only in zero_rest (and says so in its
+// training record), and bad input fails with a message and no output file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "sr/sr_model.h"
+#include "test_support.h"
+
+namespace facesr {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ModelCli : public fixtures::ScratchSuite<ModelCli> {
+ public:
+  static constexpr const char* kScratch = "facesr_model_cli_";
+
+ protected:
+  static std::string shipped() { return std::string(FACESR_TEST_SOURCE_DIR) + "/samples/assets/procedural_coarse.fsm"; }
+};
+
+TEST_F(ModelCli, ZeroRestWritesACopyThatDiffersOnlyInZeroRest) {
+  const SrModel src = load_sr_model(shipped());
+  ASSERT_FALSE(src.arch.zero_rest) << "the test needs a model without zero_rest";
+  const auto r = run("model zero-rest " + fixtures::shell_quote(shipped()) + " -o " + q("zr.fsm") + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(nlohmann::json::parse(r.out).at("zero_rest").get<bool>());
+  const SrModel out = load_sr_model(path("zr.fsm"));
+  EXPECT_TRUE(out.arch.zero_rest);
+  EXPECT_TRUE(out.training.at("zero_rest_added_after_training").get<bool>());
+  EXPECT_EQ(out.rig_checksum, src.rig_checksum);
+  ASSERT_EQ(out.tensors.size(), src.tensors.size());
+  for (size_t i = 0; i < src.tensors.size(); ++i) EXPECT_EQ(out.tensors[i].values, src.tensors[i].values) << i;
+
+  const auto info = run("model info " + q("zr.fsm") + " --json");
+  ASSERT_EQ(info.status, 0) << info.err;
+  const auto j = nlohmann::json::parse(info.out);
+  EXPECT_EQ(j.at("num_hr").get<int>(), src.num_hr);
+  EXPECT_TRUE(j.at("zero_rest").get<bool>());
+
+  // Setting it twice is refused, and nothing is written.
+  const auto again = run("model zero-rest " + q("zr.fsm") + " -o " + q("zr2.fsm"));
+  EXPECT_NE(again.status, 0);
+  EXPECT_NE(again.err.find("already set"), std::string::npos) << again.err;
+  EXPECT_FALSE(fs::exists(path("zr2.fsm")));
+}
+
+TEST_F(ModelCli, MissingOrCorruptModelsFailWithoutOutput) {
+  const auto missing = run("model zero-rest " + q("nope.fsm") + " -o " + q("x.fsm"));
+  EXPECT_NE(missing.status, 0);
+  EXPECT_NE(missing.err.find("nope.fsm"), std::string::npos) << missing.err;
+  EXPECT_FALSE(fs::exists(path("x.fsm")));
+  fs::copy_file(shipped(), path("cut.fsm"));
+  fs::resize_file(path("cut.fsm"), fs::file_size(path("cut.fsm")) / 2);
+  const auto cut = run("model info " + q("cut.fsm"));
+  EXPECT_NE(cut.status, 0);
+  EXPECT_NE(cut.err.find("cut.fsm"), std::string::npos) << cut.err;
+}
+
+}  // namespace
+}  // namespace facesr
