@@ -638,7 +638,8 @@ __kernel void cg_iteration(const uint N, const uint groups, const int first, __g
   __local fsr_real ab_l[2];
   const uint v = get_global_id(0), lid = get_local_id(0);
   if (lid == 0) {
-    int state = flags[0];
+    const int was = flags[0];
+    int state = was;
     fsr_real gamma = cg_in[0], alpha = cg_in[1], beta = cg_in[2], denom = cg_in[3];
     if (state == 0 && !first) {
       fsr_real delta = 0, rr = 0, gamma1 = 0;
@@ -657,7 +658,7 @@ __kernel void cg_iteration(const uint N, const uint groups, const int first, __g
     }
     if (state == 0 && !(denom > 0)) state = 2;
     if (state == 0) alpha = gamma / denom;
-    if (get_group_id(0) == 0 && flags[0] == 0) {
+    if (get_group_id(0) == 0 && was == 0) {
       if (state != 0) {
         flags[0] = state;
       } else {

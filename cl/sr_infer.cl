@@ -85,61 +85,25 @@ void store16(const float16 v, __global float* y, const uint n) {
   }
 }
 
-__kernel void dense_simd(const uint rows, const uint out_dim, const uint P, const uint K1, const uint K2,
-                         __global const float* a1, const uint s1, const uint off1, __global const float* a2,
-                         const uint s2, const uint off2, __global const float* Wt, __global const float* bias,
-                         __global float* out, const uint out_stride, const uint out_off, const int act,
-                         const float omega0, const float slope) {
-  const uint blocks = P / 16, id = get_global_id(0);
-  const uint row0 = (id / blocks) * DENSE_ROWS, o0 = (id % blocks) * 16;
+// The body of both CPU dense kernels: 16 × halves outputs per work-item
+// (halves is a literal at each call, so the unused half compiles away).
+// dense_simd32 (halves = 2) is for layers whose padded width P is a
+// multiple of 32: each step then has two weight loads and 8 broadcasts
+// feeding 16 fmas instead of one load and 8 broadcasts feeding 8, so the
+// loop is bound by the fmas rather than by the load ports, and 16
+// independent accumulators cover the fma latency. Each output's sum is the
+// same fma chain in the same order either way, so the results are
+// bit-identical (tested).
+inline void dense_simd_rows(const uint halves, const uint rows, const uint out_dim, const uint P, const uint K1,
+                            const uint K2, __global const float* a1, const uint s1, const uint off1,
+                            __global const float* a2, const uint s2, const uint off2, __global const float* Wt,
+                            __global const float* bias, __global float* out, const uint out_stride,
+                            const uint out_off, const int act, const float omega0, const float slope) {
+  const uint width = 16 * halves, blocks = P / width, id = get_global_id(0);
+  const uint row0 = (id / blocks) * DENSE_ROWS, o0 = (id % blocks) * width;
   if (row0 >= rows) return;
-  const float16 b = vload16(0, bias + o0);
+  const float16 b0 = vload16(0, bias + o0), b1 = halves == 2 ? vload16(0, bias + o0 + 16) : b0;
   // Rows past the end repeat the last one (read, never written).
-#define DECLARE(q)                                   \
-  const uint r##q = min(row0 + q, rows - 1);           \
-  __global const float* x##q = a1 + off1 + (size_t)r##q * s1; \
-  __global const float* z##q = a2 + off2 + (size_t)r##q * s2; \
-  float16 acc##q = b;
-  ROWS8(DECLARE)
-#undef DECLARE
-  __global const float* w = Wt + o0;
-  for (uint k = 0; k < K1; ++k) {
-    const float16 wk = vload16(0, w + (size_t)k * P);
-#define STEP(q) acc##q = fma((float16)(x##q[k]), wk, acc##q);
-    ROWS8(STEP)
-#undef STEP
-  }
-  w += (size_t)K1 * P;
-  for (uint k = 0; k < K2; ++k) {
-    const float16 wk = vload16(0, w + (size_t)k * P);
-#define STEP(q) acc##q = fma((float16)(z##q[k]), wk, acc##q);
-    ROWS8(STEP)
-#undef STEP
-  }
-  out += out_off + o0;
-  const uint n = min(16u, out_dim - o0);
-#define STORE(q) \
-  if (row0 + q < rows) store16(activate16(acc##q, act, omega0, slope), out + (size_t)(row0 + q) * out_stride, n);
-  ROWS8(STORE)
-#undef STORE
-}
-
-// dense_simd32: dense_simd with 32 outputs per work-item (two float16
-// halves), for layers whose padded width P is a multiple of 32. Each step
-// then has two weight loads and 8 broadcasts feeding 16 fmas instead of one
-// load and 8 broadcasts feeding 8, so the loop is bound by the fmas rather
-// than by the load ports, and 16 independent accumulators cover the fma
-// latency. Each output's sum is the same fma chain in the same order as
-// dense_simd's, so the results are bit-identical (tested).
-__kernel void dense_simd32(const uint rows, const uint out_dim, const uint P, const uint K1, const uint K2,
-                           __global const float* a1, const uint s1, const uint off1, __global const float* a2,
-                           const uint s2, const uint off2, __global const float* Wt, __global const float* bias,
-                           __global float* out, const uint out_stride, const uint out_off, const int act,
-                           const float omega0, const float slope) {
-  const uint blocks = P / 32, id = get_global_id(0);
-  const uint row0 = (id / blocks) * DENSE_ROWS, o0 = (id % blocks) * 32;
-  if (row0 >= rows) return;
-  const float16 b0 = vload16(0, bias + o0), b1 = vload16(0, bias + o0 + 16);
 #define DECLARE(q)                                   \
   const uint r##q = min(row0 + q, rows - 1);           \
   __global const float* x##q = a1 + off1 + (size_t)r##q * s1; \
@@ -147,32 +111,29 @@ __kernel void dense_simd32(const uint rows, const uint out_dim, const uint P, co
   float16 acc##q = b0, bcc##q = b1;
   ROWS8(DECLARE)
 #undef DECLARE
+#define STEP_FROM(src, q)                      \
+  {                                            \
+    const float16 v = (float16)(src##q[k]);    \
+    acc##q = fma(v, wk, acc##q);               \
+    if (halves == 2) bcc##q = fma(v, vk, bcc##q); \
+  }
+#define STEP_X(q) STEP_FROM(x, q)
+#define STEP_Z(q) STEP_FROM(z, q)
   __global const float* w = Wt + o0;
   for (uint k = 0; k < K1; ++k) {
-    const float16 wk = vload16(0, w + (size_t)k * P), vk = vload16(0, w + (size_t)k * P + 16);
-#define STEP(q)                         \
-  {                                     \
-    const float16 xq = (float16)(x##q[k]); \
-    acc##q = fma(xq, wk, acc##q);       \
-    bcc##q = fma(xq, vk, bcc##q);       \
-  }
-    ROWS8(STEP)
-#undef STEP
+    const float16 wk = vload16(0, w + (size_t)k * P), vk = halves == 2 ? vload16(0, w + (size_t)k * P + 16) : wk;
+    ROWS8(STEP_X)
   }
   w += (size_t)K1 * P;
   for (uint k = 0; k < K2; ++k) {
-    const float16 wk = vload16(0, w + (size_t)k * P), vk = vload16(0, w + (size_t)k * P + 16);
-#define STEP(q)                         \
-  {                                     \
-    const float16 zq = (float16)(z##q[k]); \
-    acc##q = fma(zq, wk, acc##q);       \
-    bcc##q = fma(zq, vk, bcc##q);       \
+    const float16 wk = vload16(0, w + (size_t)k * P), vk = halves == 2 ? vload16(0, w + (size_t)k * P + 16) : wk;
+    ROWS8(STEP_Z)
   }
-    ROWS8(STEP)
-#undef STEP
-  }
+#undef STEP_Z
+#undef STEP_X
+#undef STEP_FROM
   out += out_off + o0;
-  const uint n0 = min(16u, out_dim - o0), n1 = out_dim > o0 + 16 ? min(16u, out_dim - o0 - 16) : 0u;
+  const uint n0 = min(16u, out_dim - o0), n1 = halves == 2 && out_dim > o0 + 16 ? min(16u, out_dim - o0 - 16) : 0u;
 #define STORE(q)                                                                                     \
   if (row0 + q < rows) {                                                                             \
     store16(activate16(acc##q, act, omega0, slope), out + (size_t)(row0 + q) * out_stride, n0);      \
@@ -181,6 +142,17 @@ __kernel void dense_simd32(const uint rows, const uint out_dim, const uint P, co
   ROWS8(STORE)
 #undef STORE
 }
+
+#define DENSE_SIMD_ARGS                                                                                         \
+  const uint rows, const uint out_dim, const uint P, const uint K1, const uint K2, __global const float *a1,     \
+      const uint s1, const uint off1, __global const float *a2, const uint s2, const uint off2,                 \
+      __global const float *Wt, __global const float *bias, __global float *out, const uint out_stride,         \
+      const uint out_off, const int act, const float omega0, const float slope
+#define DENSE_SIMD_PASS rows, out_dim, P, K1, K2, a1, s1, off1, a2, s2, off2, Wt, bias, out, out_stride, out_off, act, omega0, slope
+__kernel void dense_simd(DENSE_SIMD_ARGS) { dense_simd_rows(1, DENSE_SIMD_PASS); }
+__kernel void dense_simd32(DENSE_SIMD_ARGS) { dense_simd_rows(2, DENSE_SIMD_PASS); }
+#undef DENSE_SIMD_PASS
+#undef DENSE_SIMD_ARGS
 
 __kernel void dense_tiled(const uint rows, const uint out_dim, const uint K1, const uint K2, __global const float* a1,
                           const uint s1, const uint off1, __global const float* a2, const uint s2, const uint off2,

@@ -607,8 +607,8 @@ class ClSimulator final : public Simulator {
   Buffer<float> C_;
   Buffer<Real> cg_[2];           // CG scalars by iteration parity, see cg_iteration in cl/sim.cl
   Buffer<cl_int> cg_flags_, no_stop_;
-  int last_cg_iters_ = 0;
-  int cg_batch_ = 0;  // ClSimulatorOptions::cg_batch        // the last solve's CG iterations: the next one's first batch
+  int last_cg_iters_ = 0;  // the last solve's CG iterations: the next one's first batch
+  int cg_batch_ = 0;       // ClSimulatorOptions::cg_batch
   uint32_t nspheres_ = 0;
   size_t local_ = 64, groups_ = 64, node_groups_ = 1;
   bool have_frame_ = false;
