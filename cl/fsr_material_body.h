@@ -427,4 +427,34 @@ FSR_FN void FSR(tet_diag_blocks)(const FSR_T* C, const FSR_T* Dminv, FSR_T vol, 
   }
 }
 
+// The ten 3x3 blocks K_km, k ≤ m, of the tet's stiffness (the lower ones are
+// their transposes), for the assembled stiffness matrix: K[9p + 3i + l] for
+// pair p in the order (0,0) (0,1) (0,2) (0,3) (1,1) (1,2) (1,3) (2,2) (2,3)
+// (3,3). K_km[i][l] = vol Σ_jq b_k[j] C[3i+j][3l+q] b_m[q] (b as in
+// tet_diag_blocks), contracted with b_m first so that each C entry is read
+// four times rather than sixteen: about 600 multiply-adds per tet.
+FSR_FN void FSR(tet_blocks)(const FSR_T* C, const FSR_T* Dminv, FSR_T vol, FSR_T* K) {
+  FSR_T b[4][3];
+  FSR_UNROLL for (int j = 0; j < 3; ++j) {
+    b[0][j] = -(Dminv[j] + Dminv[3 + j] + Dminv[6 + j]);
+    b[1][j] = Dminv[j];
+    b[2][j] = Dminv[3 + j];
+    b[3][j] = Dminv[6 + j];
+  }
+  FSR_UNROLL for (int m = 0; m < 4; ++m) {
+    FSR_T Cb[27];  // Cb[3(3i+j) + l] = Σ_q C[3i+j][3l+q] b_m[q]
+    FSR_UNROLL for (int r = 0; r < 9; ++r)
+      FSR_UNROLL for (int l = 0; l < 3; ++l)
+        Cb[3 * r + l] = C[9 * r + 3 * l] * b[m][0] + C[9 * r + 3 * l + 1] * b[m][1] + C[9 * r + 3 * l + 2] * b[m][2];
+    FSR_UNROLL for (int k = 0; k <= m; ++k) {
+      // Pair (k, m) sits at index k·(7 − k)/2 + m in the order above.
+      const int pk = k * (7 - k) / 2 + m;
+      FSR_UNROLL for (int i = 0; i < 3; ++i)
+        FSR_UNROLL for (int l = 0; l < 3; ++l)
+          K[9 * pk + 3 * i + l] =
+              vol * (b[k][0] * Cb[3 * (3 * i) + l] + b[k][1] * Cb[3 * (3 * i + 1) + l] + b[k][2] * Cb[3 * (3 * i + 2) + l]);
+    }
+  }
+}
+
 #undef FSR_C

@@ -104,14 +104,22 @@ __kernel void tet_gradient(const uint T, __global const fsr_real* mp, __global c
   for (int k = 0; k < 12; ++k) slots[12 * (size_t)t + k] = g[k];
 }
 
+// The tets' stiffness blocks (tet_blocks) in groups of eight tets: value k
+// of tet t at KE_INDEX(t, k), so that the eight-tet kernel stores each value
+// as one vector and a block's nine values lie within 288 bytes for the
+// gather in assemble_stiffness (k·Tp strides put each in another cache line).
+#define KE_INDEX(t, k) ((((size_t)(t) >> 3) * 90 + (size_t)(k)) * 8 + ((t) & 7))
+
 // dP/dF (definiteness-fixed) per tet, packed and component-major (C_g[k·Tp +
 // t], Tp the tet count rounded up to PRODUCT_LANES), and its four diagonal
-// 3x3 blocks (in full precision, for the preconditioner).
+// 3x3 blocks (in full precision, for the preconditioner); or, with
+// `assemble`, the tet's ten stiffness blocks instead (Ke, see KE_INDEX),
+// which assemble_stiffness sums into K.
 __kernel void tet_hessian(const uint T, __global const fsr_real* mp, __global const int* tets,
                           __global const fsr_real* x, __global const fsr_real* Dminv_g, __global const fsr_real* vol,
                           __global const fsr_real* fibre_g, __global const fsr_real* phi,
                           __global const fsr_real* alpha, const int fix, const uint Tp, __global float* C_g,
-                          __global fsr_real* dslots) {
+                          __global fsr_real* dslots, const int assemble, __global float* Ke) {
   const uint t = get_global_id(0);
   if (t >= T) return;
   const fsr_material m = material_of(mp);
@@ -119,6 +127,12 @@ __kernel void tet_hessian(const uint T, __global const fsr_real* mp, __global co
   load_tet(t, tets, x, Dminv_g, fibre_g, xc, Dminv, a);
   fsr_tet_F(xc, Dminv, F);
   fsr_stress_derivative(&m, F, a, phi[t], alpha[t], fix, C);
+  if (assemble) {
+    fsr_real Kb[90];
+    fsr_tet_blocks(C, Dminv, vol[t], Kb);
+    for (int k = 0; k < 90; ++k) Ke[KE_INDEX(t, k)] = (float)Kb[k];
+    return;
+  }
   fsr_tet_diag_blocks(C, Dminv, vol[t], D);
   // dP/dF is symmetric (the energy's Hessian in F): its upper triangle, in
   // float, is what product_tets reads (see there).
@@ -225,12 +239,14 @@ __kernel void tet_gradient8(const uint T, const uint Tp, __global const fsr_real
   store_tets8(T, t0, 12, g, slots);
 }
 
-// As tet_hessian: packed float dP/dF for product_tets, full-precision diagonal blocks.
+// As tet_hessian: packed float dP/dF for product_tets and full-precision
+// diagonal blocks, or with `assemble` the ten stiffness blocks.
 __kernel void tet_hessian8(const uint T, const uint Tp, __global const fsr_real* mp, __global const int* tets_cm,
                            __global const fsr_real* x, __global const fsr_real* Dminv_cm,
                            __global const fsr_real* vol_p, __global const fsr_real* fibre_cm,
                            __global const fsr_real* phi_p, __global const fsr_real* alpha_p, const int fix,
-                           __global float* C_g, __global fsr_real* dslots) {
+                           __global float* C_g, __global fsr_real* dslots, const int assemble,
+                           __global float* Ke) {
   const uint t0 = get_global_id(0) * PRODUCT_LANES;
   if (t0 >= T) return;
   const fsr_material m = material_of(mp);
@@ -238,6 +254,13 @@ __kernel void tet_hessian8(const uint T, const uint Tp, __global const fsr_real*
   load_tets8(t0, Tp, tets_cm, x, Dminv_cm, fibre_cm, xc, Dm, a);
   fsr8_tet_F(xc, Dm, F);
   fsr8_stress_derivative(&m, F, a, pload(phi_p + t0), pload(alpha_p + t0), fix, C);
+  if (assemble) {  // padding tets have zero volume, so zero blocks
+    preal Kb[90];
+    fsr8_tet_blocks(C, Dm, pload(vol_p + t0), Kb);
+    #pragma unroll
+    for (int k = 0; k < 90; ++k) vstore8(convert_float8(Kb[k]), 0, Ke + KE_INDEX(t0, k));
+    return;
+  }
   fsr8_tet_diag_blocks(C, Dm, pload(vol_p + t0), D);
   int n = 0;
   #pragma unroll
@@ -600,6 +623,101 @@ __kernel void gather_dot(const uint N, __global const int* inc_offset, __global 
         sa += l * pu[1];
         sb += l * pu[2];
       }
+    }
+    q[3 * v] = s0;
+    q[3 * v + 1] = sa;
+    q[3 * v + 2] = sb;
+    acc = p[3 * v] * s0 + p[3 * v + 1] * sa + p[3 * v + 2] * sb;
+  }
+  s1[lid] = acc;
+  group_sum(s1);
+  if (lid == 0) partial[get_group_id(0)] = s1[0];
+}
+
+// ---- The assembled stiffness matrix (engine/sim/stiffness_pattern.h) ----
+// K in float 3x3 blocks, block-CSR by node row over the free nodes, summed
+// once per Newton step from the tets' blocks (and the surface terms), so that
+// each CG product reads K's 1.1 MB instead of recomputing every tet's
+// product from dP/dF and gathering its slots.
+
+// Work-item per node: each block of its row summed in full precision from
+// its sources (tet_ref here: 2 KE_INDEX(t, 9 pair) + transposed, the
+// pattern's refs resolved on the host), then stored in float; the diagonal block's inverse, in full
+// precision, is the block-Jacobi preconditioner (zero for bone nodes).
+// track_mode 1: the surface share is the track springs' fixed `track` (see
+// gather_dot); 0: every surface vertex's Hessian surfH (point springs,
+// spheres), weighted by its embedding.
+__kernel void assemble_stiffness(const uint N, const uint Tp, const int track_mode, __global const int* row_offset,
+                                 __global const int* col, __global const int* tet_offset,
+                                 __global const int* tet_ref, __global const int* surf_offset,
+                                 __global const int* surf_ref, __global const fsr_real* track,
+                                 __global const int* slist, __global const fsr_real* sw,
+                                 __global const fsr_real* surfH, __global const float* Ke,
+                                 __global float* K, __global fsr_real* Minv) {
+  const uint v = get_global_id(0);
+  if (v >= N) return;
+  fsr_real inv[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  for (int b = row_offset[v]; b < row_offset[v + 1]; ++b) {
+    fsr_real A[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    for (int i = tet_offset[b]; i < tet_offset[b + 1]; ++i) {
+      const int ref = tet_ref[i];
+      __global const float* src = Ke + (ref >> 1);
+      if (ref & 1) {
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) A[3 * r + c] += src[8 * (3 * c + r)];
+      } else {
+        for (int e = 0; e < 9; ++e) A[e] += src[8 * e];
+      }
+    }
+    if (track_mode) {
+      const fsr_real l = track[b];
+      A[0] += l;
+      A[4] += l;
+      A[8] += l;
+    } else {
+      for (int i = surf_offset[b]; i < surf_offset[b + 1]; ++i) {
+        const int ref = surf_ref[i], s = ref >> 4, ca = (ref >> 2) & 3, cb = ref & 3;
+        const int vert = slist[s];
+        const fsr_real w = sw[4 * vert + ca] * sw[4 * vert + cb];
+        for (int e = 0; e < 9; ++e) A[e] += w * surfH[9 * (size_t)s + e];
+      }
+    }
+    for (int e = 0; e < 9; ++e) K[9 * (size_t)b + e] = (float)A[e];
+    if (col[b] == (int)v) {
+      const fsr_real det = fsr_det3(A);
+      if (fabs(det) > (fsr_real)1e-30) {
+        inv[0] = (A[4] * A[8] - A[5] * A[7]) / det;
+        inv[1] = (A[2] * A[7] - A[1] * A[8]) / det;
+        inv[2] = (A[1] * A[5] - A[2] * A[4]) / det;
+        inv[3] = (A[5] * A[6] - A[3] * A[8]) / det;
+        inv[4] = (A[0] * A[8] - A[2] * A[6]) / det;
+        inv[5] = (A[2] * A[3] - A[0] * A[5]) / det;
+        inv[6] = (A[3] * A[7] - A[4] * A[6]) / det;
+        inv[7] = (A[1] * A[6] - A[0] * A[7]) / det;
+        inv[8] = (A[0] * A[4] - A[1] * A[3]) / det;
+      }
+    }
+  }
+  for (int e = 0; e < 9; ++e) Minv[9 * (size_t)v + e] = inv[e];
+}
+
+// q = K p (bone rows empty, so 0) and partial sums of p·q: the CG's product
+// on the assembled matrix, the same contract as gather_dot.
+__kernel void spmv_dot(const uint N, __global const int* row_offset, __global const int* col,
+                       __global const float* K, __global const fsr_real* p, __global fsr_real* q,
+                       __global fsr_real* partial, __local fsr_real* s1, __global const int* stop) {
+  if (stop[0] != 0) return;
+  const uint v = get_global_id(0), lid = get_local_id(0);
+  fsr_real acc = 0;
+  if (v < N) {
+    fsr_real s0 = 0, sa = 0, sb = 0;
+    for (int b = row_offset[v]; b < row_offset[v + 1]; ++b) {
+      __global const float* A = K + 9 * (size_t)b;
+      __global const fsr_real* pu = p + 3 * (size_t)col[b];
+      const fsr_real p0 = pu[0], p1 = pu[1], p2 = pu[2];
+      s0 += A[0] * p0 + A[1] * p1 + A[2] * p2;
+      sa += A[3] * p0 + A[4] * p1 + A[5] * p2;
+      sb += A[6] * p0 + A[7] * p1 + A[8] * p2;
     }
     q[3 * v] = s0;
     q[3 * v + 1] = sa;

@@ -228,6 +228,15 @@ TEST(SimMaterial, ElementForcesAndStiffnessMatchFiniteDifferences) {
       fsr_tet_diag_blocks(C, Dminv.data(), vol, D);
       const int k = i / 3, a = i % 3;
       for (int b = 0; b < 3; ++b) EXPECT_NEAR(D[9 * k + 3 * b + a], Kcol[3 * k + b], 1e-9 * (1 + std::abs(Kcol[3 * k + b])));
+      // Every block of the assembled form against the product's column.
+      double Kb[90];
+      fsr_tet_blocks(C, Dminv.data(), vol, Kb);
+      for (int r = 0; r < 4; ++r)
+        for (int b = 0; b < 3; ++b) {
+          const int lo = std::min(r, k), hi = std::max(r, k), pair = lo * (7 - lo) / 2 + hi;
+          const double v = r <= k ? Kb[9 * pair + 3 * b + a] : Kb[9 * pair + 3 * a + b];
+          EXPECT_NEAR(v, Kcol[3 * r + b], 1e-9 * (1 + std::abs(Kcol[3 * r + b]))) << "block " << r << "," << k;
+        }
     }
   }
 }

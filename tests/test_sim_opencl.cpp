@@ -34,13 +34,21 @@ double max_abs_diff(const std::vector<double>& a, const std::vector<double>& b) 
   return d;
 }
 
-// Each parity test runs with both element-kernel variants: eight tets per
-// work-item (the CPU default) and one tet per work-item (the GPU default).
-class SimOpenCLElements : public ::testing::TestWithParam<ClSimulatorOptions::Elements> {
+// Each parity test runs with both element-kernel variants, eight tets per
+// work-item (the CPU default) and one tet per work-item (the GPU default),
+// with the assembled CG product (the default), and the eight-tet kernels
+// once more with the per-element product.
+struct Variant {
+  ClSimulatorOptions::Elements elements;
+  ClSimulatorOptions::Product product;
+};
+
+class SimOpenCLElements : public ::testing::TestWithParam<Variant> {
  protected:
   ClSimulatorOptions options() const {
     ClSimulatorOptions o;
-    o.elements = GetParam();
+    o.elements = GetParam().elements;
+    o.product = GetParam().product;
     return o;
   }
 };
@@ -48,9 +56,13 @@ class SimOpenCLElements : public ::testing::TestWithParam<ClSimulatorOptions::El
 }  // namespace
 
 INSTANTIATE_TEST_SUITE_P(Kernels, SimOpenCLElements,
-                         ::testing::Values(ClSimulatorOptions::Elements::Simd, ClSimulatorOptions::Elements::Scalar),
+                         ::testing::Values(Variant{ClSimulatorOptions::Elements::Simd, ClSimulatorOptions::Product::Assembled},
+                                           Variant{ClSimulatorOptions::Elements::Scalar, ClSimulatorOptions::Product::Assembled},
+                                           Variant{ClSimulatorOptions::Elements::Simd, ClSimulatorOptions::Product::Elements}),
                          [](const auto& info) {
-                           return info.param == ClSimulatorOptions::Elements::Simd ? "Simd" : "Scalar";
+                           const bool simd = info.param.elements == ClSimulatorOptions::Elements::Simd;
+                           const bool assembled = info.param.product == ClSimulatorOptions::Product::Assembled;
+                           return std::string(simd ? "Simd" : "Scalar") + (assembled ? "Assembled" : "ElementProduct");
                          });
 
 // With a point spring the CG product runs per surface vertex; without one

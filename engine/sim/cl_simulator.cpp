@@ -13,6 +13,7 @@
 #include "compute/cl_program.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "sim/stiffness_pattern.h"
 
 namespace facesr {
 
@@ -30,8 +31,9 @@ template <typename Real>
 class ClSimulator final : public Simulator {
  public:
   ClSimulator(const SimModel& m, const SolverOptions& opt, const compute::DeviceInfo& dev,
-              ClSimulatorOptions::Elements elements, int cg_batch)
+              ClSimulatorOptions::Elements elements, ClSimulatorOptions::Product product, int cg_batch)
       : m_(m), opt_(opt), ctx_(dev), cg_batch_(cg_batch) {
+    assembled_ = product == ClSimulatorOptions::Product::Assembled;
     using Elements = ClSimulatorOptions::Elements;
     simd_elements_ = elements == Elements::Simd || (elements == Elements::Auto && dev.type == compute::DeviceType::Cpu);
     std::string options = "-cl-std=CL1.2";
@@ -96,6 +98,10 @@ class ClSimulator final : public Simulator {
       alpha_ = Buffer<Real>(ctx_, std::vector<Real>(Tp_, Real(0)));
       C_ = Buffer<float>(ctx_, std::vector<float>(45 * size_t(Tp_), 0.0f));  // packed dP/dF, see tet_hessian
     }
+    if (assembled_)
+      build_stiffness_pattern();
+    else
+      Ke_ = Buffer<float>(ctx_, 1);  // an unused kernel argument
     surfH_ = Buffer<Real>(ctx_, 9 * std::max<size_t>(1, S));
     Minv_ = Buffer<Real>(ctx_, 9 * N);
     elem_ = Buffer<Real>(ctx_, std::max<size_t>(Tp_, S));
@@ -113,7 +119,8 @@ class ClSimulator final : public Simulator {
     for (const char* k : {"frame_tet_alpha", "frame_targets", "frame_targets8", "apply_dirichlet", "tet_energy", "tet_gradient",
                           "tet_hessian", "tet_energy8", "tet_gradient8", "tet_hessian8", "surface_terms", "gather_nodes",
                           "gather_diag_inverse", "precondition", "dot2_partial", "sum_partial",
-                          "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "cg_iteration", "tet_inverted", "embed_surface"})
+                          "axpy_to", "scale_to", "extrapolate", "product_tets", "product_surface", "gather_dot", "cg_iteration", "tet_inverted", "embed_surface",
+                          "assemble_stiffness", "spmv_dot"})
       kernels_.emplace(k, prog_.kernel(k));
     reset();
   }
@@ -268,11 +275,26 @@ class ClSimulator final : public Simulator {
     time("tet_gradient8", [&] {
       k("tet_gradient8").args(T, Tp_, mat_, tets_cm_, x_, Dminv_cm_, vol_p_, fibre_cm_, phi_, alpha_, slots_).run_1d(Tp_ / kProductLanes, 8);
     });
-    time("tet_hessian8", [&] {
-      k("tet_hessian8")
-          .args(T, Tp_, mat_, tets_cm_, x_, Dminv_cm_, vol_p_, fibre_cm_, phi_, alpha_, cl_int(1), C_, dslots_)
-          .run_1d(Tp_ / kProductLanes, 8);
-    });
+    for (const cl_int assemble : {0, 1}) {
+      if (assemble && !assembled_) continue;
+      time(assemble ? "tet_hessian8 (blocks)" : "tet_hessian8", [&] {
+        k("tet_hessian8")
+            .args(T, Tp_, mat_, tets_cm_, x_, Dminv_cm_, vol_p_, fibre_cm_, phi_, alpha_, cl_int(1), C_, dslots_,
+                  assemble, Ke_)
+            .run_1d(Tp_ / kProductLanes, 8);
+      });
+    }
+    if (assembled_) {
+      time("assemble_stiffness", [&] {
+        k("assemble_stiffness")
+            .args(N, Tp_, cl_int(1), kp_row_, kp_col_, kp_tet_offset_, kp_tet_ref_, kp_surf_offset_, kp_surf_ref_,
+                  kp_track_, inc_[0].vertices, surf_w_, surfH_, Ke_, K_, Minv_)
+            .run_1d(N, local_);
+      });
+      time("spmv_dot", [&] {
+        k("spmv_dot").args(N, kp_row_, kp_col_, K_, p_, q_, partial_, LocalMemory{local_ * sizeof(Real)}, no_stop_).run_1d(N, local_);
+      });
+    }
     time("tet_energy8", [&] {
       k("tet_energy8").args(T, Tp_, mat_, tets_cm_, x_, Dminv_cm_, vol_p_, fibre_cm_, phi_, alpha_, elem_).run_1d(Tp_ / kProductLanes, 8);
     });
@@ -405,14 +427,27 @@ class ClSimulator final : public Simulator {
 
   void hessian(const Buffer<Real>& x, bool fix = true) {
     const uint32_t T = m_.num_tets, N = m_.num_nodes;
+    const cl_int assemble = assembled_ ? 1 : 0;
     if (simd_elements_)
       k("tet_hessian8")
-          .args(T, Tp_, mat_, tets_cm_, x, Dminv_cm_, vol_p_, fibre_cm_, phi_, alpha_, cl_int(fix ? 1 : 0), C_, dslots_)
+          .args(T, Tp_, mat_, tets_cm_, x, Dminv_cm_, vol_p_, fibre_cm_, phi_, alpha_, cl_int(fix ? 1 : 0), C_, dslots_,
+                assemble, Ke_)
           .run_1d(Tp_ / kProductLanes, 8);
     else
       k("tet_hessian")
-          .args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, cl_int(fix ? 1 : 0), Tp_, C_, dslots_)
+          .args(T, mat_, tets_, x, Dminv_, vol_, fibre_, phi_, alpha_, cl_int(fix ? 1 : 0), Tp_, C_, dslots_, assemble,
+                Ke_)
           .run_1d(T, local_);
+    if (assembled_) {
+      // Track springs only: their fixed share is in the pattern, no surface pass.
+      const bool track = cur_ == &inc_[1];
+      if (!track) surface_terms(x, fix ? 2 : 3);
+      k("assemble_stiffness")
+          .args(N, Tp_, cl_int(track ? 1 : 0), kp_row_, kp_col_, kp_tet_offset_, kp_tet_ref_, kp_surf_offset_,
+                kp_surf_ref_, kp_track_, inc_[0].vertices, surf_w_, surfH_, Ke_, K_, Minv_)
+          .run_1d(N, local_);
+      return;
+    }
     surface_terms(x, fix ? 2 : 3);
     k("gather_diag_inverse").args(N, cur_->offset, cur_->slot, bone_, dslots_, Minv_).run_1d(N, local_);
   }
@@ -440,6 +475,12 @@ class ClSimulator final : public Simulator {
   // Nothing is done while stop[0] ≠ 0 (see pcg).
   void enqueue_product_dot(const Buffer<Real>& p, Buffer<Real>& q, const Buffer<cl_int>& stop) {
     const uint32_t T = m_.num_tets, S = cur_->count, N = m_.num_nodes;
+    if (assembled_) {
+      k("spmv_dot")
+          .args(N, kp_row_, kp_col_, K_, p, q, partial_, LocalMemory{local_ * sizeof(Real)}, stop)
+          .run_1d(N, local_);
+      return;
+    }
     k("product_tets").args(T, Tp_, tets_cm_, p, Dminv_cm_, vol_p_, C_, slots_, stop).run_1d(Tp_ / kProductLanes, 8);
     if (cur_ == &inc_[1]) {  // track springs only: see gather_dot
       k("gather_dot")
@@ -492,6 +533,36 @@ class ClSimulator final : public Simulator {
     L_val_ = Buffer<Real>(ctx_, val, ro);
     track_inc_offset_ = Buffer<cl_int>(ctx_, inc_offset, ro);
     track_inc_slot_ = Buffer<cl_int>(ctx_, inc_slot, ro);
+  }
+
+  // The assembled stiffness matrix's pattern and sources (see assemble_stiffness).
+  void build_stiffness_pattern() {
+    const StiffnessPattern sp = make_stiffness_pattern(m_);
+    const cl_mem_flags ro = CL_MEM_READ_ONLY;
+    // OpenCL buffers cannot be empty: pad with an unused entry.
+    const auto padded = [](std::vector<int32_t> v) {
+      if (v.empty()) v.push_back(0);
+      return v;
+    };
+    kp_row_ = Buffer<cl_int>(ctx_, sp.row_offset, ro);
+    kp_col_ = Buffer<cl_int>(ctx_, padded(sp.col), ro);
+    kp_tet_offset_ = Buffer<cl_int>(ctx_, sp.tet_offset, ro);
+    // Refs resolved to offsets into Ke (KE_INDEX in cl/sim.cl) once, here.
+    std::vector<int32_t> ke_ref(sp.tet_ref.size());
+    for (size_t i = 0; i < ke_ref.size(); ++i) {
+      const int64_t ref = sp.tet_ref[i], q = ref >> 1, t = q / 10, pair = q % 10;
+      const int64_t at = ((t >> 3) * 90 + 9 * pair) * 8 + (t & 7);
+      if (2 * at + 1 > std::numeric_limits<int32_t>::max()) throw Error("stiffness pattern: too many tets for 32-bit offsets");
+      ke_ref[i] = int32_t(2 * at + (ref & 1));
+    }
+    kp_tet_ref_ = Buffer<cl_int>(ctx_, padded(ke_ref), ro);
+    kp_surf_offset_ = Buffer<cl_int>(ctx_, sp.surf_offset, ro);
+    kp_surf_ref_ = Buffer<cl_int>(ctx_, padded(sp.surf_ref), ro);
+    std::vector<Real> track = to_real<Real>(sp.track);
+    if (track.empty()) track.push_back(Real(0));
+    kp_track_ = Buffer<Real>(ctx_, track, ro);
+    K_ = Buffer<float>(ctx_, std::max<size_t>(1, 9 * sp.num_blocks()));
+    Ke_ = Buffer<float>(ctx_, 90 * size_t(Tp_));
   }
 
   // Host sum of the per-group partials of a node kernel (1 or 2 interleaved sums).
@@ -605,6 +676,12 @@ class ClSimulator final : public Simulator {
   Buffer<Real> x_, x_prev_, xt_, g_, d_, r_, z_, p_, q_, s_, slots_, dslots_, surfH_, Minv_, elem_, partial_;
   Buffer<Real> partial2_[2];  // r·r and r·u partial sums, by iteration parity (see enqueue_cg_iteration)
   Buffer<float> C_;
+  // The assembled product (ClSimulatorOptions::Product::Assembled): pattern,
+  // per-tet blocks, K.
+  bool assembled_ = true;
+  Buffer<cl_int> kp_row_, kp_col_, kp_tet_offset_, kp_tet_ref_, kp_surf_offset_, kp_surf_ref_;
+  Buffer<Real> kp_track_;
+  Buffer<float> K_, Ke_;
   Buffer<Real> cg_[2];           // CG scalars by iteration parity, see cg_iteration in cl/sim.cl
   Buffer<cl_int> cg_flags_, no_stop_;
   int last_cg_iters_ = 0;  // the last solve's CG iterations: the next one's first batch
@@ -625,8 +702,8 @@ std::unique_ptr<Simulator> make_cl_simulator(const SimModel& model, const Solver
                                              const ClSimulatorOptions& cl) {
   if (cl.cg_batch < 0) throw Error("ClSimulatorOptions::cg_batch must be 0 (automatic) or positive, got " + std::to_string(cl.cg_batch));
   const compute::DeviceInfo dev = compute::select_device(cl.device);
-  if (dev.double_support && !cl.single_precision) return std::make_unique<ClSimulator<double>>(model, opt, dev, cl.elements, cl.cg_batch);
-  return std::make_unique<ClSimulator<float>>(model, opt, dev, cl.elements, cl.cg_batch);
+  if (dev.double_support && !cl.single_precision) return std::make_unique<ClSimulator<double>>(model, opt, dev, cl.elements, cl.product, cl.cg_batch);
+  return std::make_unique<ClSimulator<float>>(model, opt, dev, cl.elements, cl.product, cl.cg_batch);
 }
 
 }  // namespace facesr

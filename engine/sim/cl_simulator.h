@@ -18,6 +18,13 @@ struct ClSimulatorOptions {
   // product is eight-wide on every device.
   enum class Elements { Auto, Simd, Scalar };
   Elements elements = Elements::Auto;
+  // The CG's stiffness product: Assembled sums K once per Newton step into
+  // float 3x3 blocks (sim/stiffness_pattern.h) and multiplies by it; Elements
+  // recomputes every tet's product from its dP/dF each iteration and gathers
+  // the corners (no assembly, a quarter of the memory). Both give the same
+  // matrix up to float rounding; tests compare them.
+  enum class Product { Assembled, Elements };
+  Product product = Product::Assembled;
   // CG iterations enqueued between reads of the solve's stopping flags (the
   // scalar recurrences run on the device; iterations queued past the stop
   // do nothing). 0: the previous solve's count first, then 4 at a time.
