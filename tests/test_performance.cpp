@@ -282,6 +282,33 @@ TEST(PerformanceBuiltins, InRangeNonConstantAndStartNeutral) {
   std::vector<std::string> reversed(names.rbegin(), names.rend());
   const Performance rr = builtin_performance("random", reversed);
   for (int f = 0; f < r.frames(); f += 7) EXPECT_EQ(w(rr, f, "noseSneer_L"), w(r, f, "noseSneer_L"));
+
+  // Sparse: at each pose (every 12 frames) 2 to 5 base shapes (4 to 10 rig
+  // shapes with halves) are on and the rest off; over the take many shapes
+  // move; deterministic and independent of the rig's order.
+  std::vector<std::string> ict = {"jawForward", "jawLeft", "jawOpen", "jawRight", "mouthClose", "mouthFunnel",
+                                  "mouthLeft", "mouthPucker", "mouthRight", "mouthRollLower", "mouthRollUpper",
+                                  "mouthShrugLower", "mouthShrugUpper"};
+  for (const char* base : {"browDown", "browInnerUp", "browOuterUp", "cheekPuff", "cheekSquint", "eyeBlink",
+                           "eyeLookDown", "eyeLookIn", "eyeLookOut", "eyeLookUp", "eyeSquint", "eyeWide",
+                           "mouthDimple", "mouthFrown", "mouthLowerDown", "mouthPress", "mouthSmile", "mouthStretch",
+                           "mouthUpperUp", "noseSneer"})
+    for (const char* side : {"_L", "_R"}) ict.push_back(std::string(base) + side);
+  ASSERT_EQ(ict.size(), 53u);  // the ICT head's (and ARKit's) 53 shapes
+  const Performance sp = builtin_performance("sparse", ict);
+  EXPECT_EQ(sp.frames(), 121);
+  for (int f = 12; f < sp.frames(); f += 12) {
+    int on = 0;
+    for (size_t s = 0; s < ict.size(); ++s) on += sp.frame(f)[s] > 0;
+    EXPECT_GE(on, 2) << "frame " << f;
+    EXPECT_LE(on, 10) << "frame " << f;
+  }
+  const std::vector<float> sm = max_weights(sp);
+  EXPECT_GE(std::count_if(sm.begin(), sm.end(), [](float v) { return v > 0.3f; }), 15);
+  EXPECT_TRUE(builtin_performance("sparse", ict).weights == sp.weights);
+  const Performance spr = builtin_performance("sparse", std::vector<std::string>(ict.rbegin(), ict.rend()));
+  for (int f = 0; f < sp.frames(); f += 5)
+    for (const char* n : {"jawOpen", "mouthSmile_L", "browInnerUp_R"}) EXPECT_EQ(w(spr, f, n), w(sp, f, n)) << n;
 }
 
 TEST(PerformanceBuiltins, MissingShapesAreSkippedAndUnknownNamesListed) {

@@ -12,6 +12,9 @@ class Progress {
   // ETA comes from this run's rate.
   Progress(std::string task, long total, bool enabled = true, long first = 0);
   void update(long done, const std::string& detail = "");
+  // `count` units found already done mid-run (a finished part of a resumed
+  // job): they count toward `done` but not toward the rate behind the ETA.
+  void skip(long count) { first_ += count; }
   void finish(const std::string& detail = "");
 
  private:

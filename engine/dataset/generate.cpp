@@ -205,6 +205,7 @@ DatasetSummary generate_dataset(const Rig& rig, const std::string& rig_path, con
         finished = true;
         ++sum.skipped_sequences;
         done += perf.frames();
+        progress.skip(perf.frames());
         progress.update(done, perf.name + ": already complete");
       }
     }
@@ -233,6 +234,7 @@ DatasetSummary generate_dataset(const Rig& rig, const std::string& rig_path, con
         }
       }
       done += long(start);
+      progress.skip(long(start));
       Controls c;
       for (int f = int(start); f < perf.frames(); ++f) {
         frame_controls(perf, f, rig.jaw, c);
