@@ -27,7 +27,7 @@ TEST(CoreProgress, SkippedWorkDoesNotShortenTheEta) {
   Progress p("job", 100, true);
   p.skip(50);
   p.update(50, "half was already done");
-  std::this_thread::sleep_for(std::chrono::milliseconds(600)  // past the print rate limit (0.5 s));
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));  // past the print rate limit (0.5 s)
   p.update(60, "ten done in this run");
   const std::string out = testing::internal::GetCapturedStderr();
   EXPECT_NE(out.find("60/100"), std::string::npos) << out;
