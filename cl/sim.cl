@@ -394,6 +394,21 @@ __kernel void gather_nodes(const uint N, __global const int* inc_offset, __globa
   out[3 * v + 2] = s2;
 }
 
+// inv = A⁻¹ for a 3x3 block, left as it is (zero) when A is singular.
+void inverse3_or_zero(const fsr_real* A, fsr_real* inv) {
+  const fsr_real det = fsr_det3(A);
+  if (!(fabs(det) > (fsr_real)1e-30)) return;
+  inv[0] = (A[4] * A[8] - A[5] * A[7]) / det;
+  inv[1] = (A[2] * A[7] - A[1] * A[8]) / det;
+  inv[2] = (A[1] * A[5] - A[2] * A[4]) / det;
+  inv[3] = (A[5] * A[6] - A[3] * A[8]) / det;
+  inv[4] = (A[0] * A[8] - A[2] * A[6]) / det;
+  inv[5] = (A[2] * A[3] - A[0] * A[5]) / det;
+  inv[6] = (A[3] * A[7] - A[4] * A[6]) / det;
+  inv[7] = (A[1] * A[6] - A[0] * A[7]) / det;
+  inv[8] = (A[0] * A[4] - A[1] * A[3]) / det;
+}
+
 // Block-Jacobi preconditioner: inverse of each free node's 3x3 diagonal block.
 __kernel void gather_diag_inverse(const uint N, __global const int* inc_offset, __global const int* inc_slot,
                                   __global const uchar* bone, __global const fsr_real* dslots,
@@ -403,19 +418,8 @@ __kernel void gather_diag_inverse(const uint N, __global const int* inc_offset, 
   fsr_real D[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   for (int i = inc_offset[v]; i < inc_offset[v + 1]; ++i)
     for (int k = 0; k < 9; ++k) D[k] += dslots[9 * (size_t)inc_slot[i] + k];
-  const fsr_real det = fsr_det3(D);
   fsr_real inv[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-  if (bone[v] == 0 && fabs(det) > (fsr_real)1e-30) {
-    inv[0] = (D[4] * D[8] - D[5] * D[7]) / det;
-    inv[1] = (D[2] * D[7] - D[1] * D[8]) / det;
-    inv[2] = (D[1] * D[5] - D[2] * D[4]) / det;
-    inv[3] = (D[5] * D[6] - D[3] * D[8]) / det;
-    inv[4] = (D[0] * D[8] - D[2] * D[6]) / det;
-    inv[5] = (D[2] * D[3] - D[0] * D[5]) / det;
-    inv[6] = (D[3] * D[7] - D[4] * D[6]) / det;
-    inv[7] = (D[1] * D[6] - D[0] * D[7]) / det;
-    inv[8] = (D[0] * D[4] - D[1] * D[3]) / det;
-  }
+  if (bone[v] == 0) inverse3_or_zero(D, inv);
   for (int k = 0; k < 9; ++k) Minv[9 * (size_t)v + k] = inv[k];
 }
 
@@ -592,6 +596,23 @@ __kernel void product_surface(const uint T, const uint S, __global const fsr_rea
     for (int c = 0; c < 3; ++c) out[3 * k + c] = w[k] * hq[c];
 }
 
+// The products' common end: q_v = (s0, sa, sb) for a live node and the
+// work-group's partial sum of p·q (every work-item of the group calls it).
+void store_product(const bool live, const uint v, const fsr_real s0, const fsr_real sa, const fsr_real sb,
+                   __global const fsr_real* p, __global fsr_real* q, __global fsr_real* partial,
+                   __local fsr_real* s1) {
+  fsr_real acc = 0;
+  if (live) {
+    q[3 * v] = s0;
+    q[3 * v + 1] = sa;
+    q[3 * v + 2] = sb;
+    acc = p[3 * v] * s0 + p[3 * v + 1] * sa + p[3 * v + 2] * sb;
+  }
+  s1[get_local_id(0)] = acc;
+  group_sum(s1);
+  if (get_local_id(0) == 0) partial[get_group_id(0)] = s1[0];
+}
+
 // q = gathered slots + L p (bone nodes 0), and partial sums of p·q. L is
 // for frames whose only surface terms are the track springs (no point
 // springs or spheres): each tracked vertex's Hessian is then k·I, so the
@@ -605,10 +626,9 @@ __kernel void gather_dot(const uint N, __global const int* inc_offset, __global 
                                __global const fsr_real* slots, __global fsr_real* q, __global const fsr_real* p,
                                __global fsr_real* partial, __local fsr_real* s1, __global const int* stop) {
   if (stop[0] != 0) return;
-  const uint v = get_global_id(0), lid = get_local_id(0);
-  fsr_real acc = 0;
+  const uint v = get_global_id(0);
+  fsr_real s0 = 0, sa = 0, sb = 0;
   if (v < N) {
-    fsr_real s0 = 0, sa = 0, sb = 0;
     if (bone[v] == 0) {
       for (int i = inc_offset[v]; i < inc_offset[v + 1]; ++i) {
         __global const fsr_real* s = SLOT3(slots, inc_slot[i]);
@@ -624,14 +644,8 @@ __kernel void gather_dot(const uint N, __global const int* inc_offset, __global 
         sb += l * pu[2];
       }
     }
-    q[3 * v] = s0;
-    q[3 * v + 1] = sa;
-    q[3 * v + 2] = sb;
-    acc = p[3 * v] * s0 + p[3 * v + 1] * sa + p[3 * v + 2] * sb;
   }
-  s1[lid] = acc;
-  group_sum(s1);
-  if (lid == 0) partial[get_group_id(0)] = s1[0];
+  store_product(v < N, v, s0, sa, sb, p, q, partial, s1);
 }
 
 // ---- The assembled stiffness matrix (engine/sim/stiffness_pattern.h) ----
@@ -683,20 +697,7 @@ __kernel void assemble_stiffness(const uint N, const uint Tp, const int track_mo
       }
     }
     for (int e = 0; e < 9; ++e) K[9 * (size_t)b + e] = (float)A[e];
-    if (col[b] == (int)v) {
-      const fsr_real det = fsr_det3(A);
-      if (fabs(det) > (fsr_real)1e-30) {
-        inv[0] = (A[4] * A[8] - A[5] * A[7]) / det;
-        inv[1] = (A[2] * A[7] - A[1] * A[8]) / det;
-        inv[2] = (A[1] * A[5] - A[2] * A[4]) / det;
-        inv[3] = (A[5] * A[6] - A[3] * A[8]) / det;
-        inv[4] = (A[0] * A[8] - A[2] * A[6]) / det;
-        inv[5] = (A[2] * A[3] - A[0] * A[5]) / det;
-        inv[6] = (A[3] * A[7] - A[4] * A[6]) / det;
-        inv[7] = (A[1] * A[6] - A[0] * A[7]) / det;
-        inv[8] = (A[0] * A[4] - A[1] * A[3]) / det;
-      }
-    }
+    if (col[b] == (int)v) inverse3_or_zero(A, inv);
   }
   for (int e = 0; e < 9; ++e) Minv[9 * (size_t)v + e] = inv[e];
 }
@@ -707,10 +708,9 @@ __kernel void spmv_dot(const uint N, __global const int* row_offset, __global co
                        __global const float* K, __global const fsr_real* p, __global fsr_real* q,
                        __global fsr_real* partial, __local fsr_real* s1, __global const int* stop) {
   if (stop[0] != 0) return;
-  const uint v = get_global_id(0), lid = get_local_id(0);
-  fsr_real acc = 0;
+  const uint v = get_global_id(0);
+  fsr_real s0 = 0, sa = 0, sb = 0;
   if (v < N) {
-    fsr_real s0 = 0, sa = 0, sb = 0;
     for (int b = row_offset[v]; b < row_offset[v + 1]; ++b) {
       __global const float* A = K + 9 * (size_t)b;
       __global const fsr_real* pu = p + 3 * (size_t)col[b];
@@ -719,14 +719,8 @@ __kernel void spmv_dot(const uint N, __global const int* row_offset, __global co
       sa += A[3] * p0 + A[4] * p1 + A[5] * p2;
       sb += A[6] * p0 + A[7] * p1 + A[8] * p2;
     }
-    q[3 * v] = s0;
-    q[3 * v + 1] = sa;
-    q[3 * v + 2] = sb;
-    acc = p[3 * v] * s0 + p[3 * v + 1] * sa + p[3 * v + 2] * sb;
   }
-  s1[lid] = acc;
-  group_sum(s1);
-  if (lid == 0) partial[get_group_id(0)] = s1[0];
+  store_product(v < N, v, s0, sa, sb, p, q, partial, s1);
 }
 
 // One iteration of the single-reduction CG (Chronopoulos and Gear 1989; see
