@@ -35,6 +35,11 @@ facesr_status create(const facesr_rig* rig, const facesr_model* model, const fac
     return fail(
         FACESR_ERROR_INVALID_ARGUMENT, fn,
         "inference " + std::to_string(d.inference) + " is not FACESR_INFERENCE_OPENCL (0) or FACESR_INFERENCE_CPU (1)");
+  if (d.lr_precision != FACESR_PRECISION_AUTO && d.lr_precision != FACESR_PRECISION_DOUBLE &&
+      d.lr_precision != FACESR_PRECISION_FLOAT)
+    return fail(FACESR_ERROR_INVALID_ARGUMENT, fn,
+                "lr_precision " + std::to_string(d.lr_precision) +
+                    " is not FACESR_PRECISION_AUTO (0), FACESR_PRECISION_DOUBLE (1) or FACESR_PRECISION_FLOAT (2)");
   if (d.device_index < -1)
     return fail(FACESR_ERROR_INVALID_ARGUMENT, fn,
                 "device_index " + std::to_string(d.device_index) + " is negative (use -1 for the default)");
@@ -51,6 +56,8 @@ facesr_status create(const facesr_rig* rig, const facesr_model* model, const fac
   opt.solver = d.solver == FACESR_SOLVER_ACCURATE ? SolverOptions{} : realtime_solver();
   opt.cpu_inference = d.inference == FACESR_INFERENCE_CPU;
   opt.split_device = d.split_device != 0;
+  opt.lr_single_precision = d.lr_precision == FACESR_PRECISION_FLOAT ||
+                            (d.lr_precision == FACESR_PRECISION_AUTO && d.solver == FACESR_SOLVER_REALTIME);
   // Past the checks above, what can fail is opening the device, building its
   // kernels or allocating on it.
   return guarded(fn, FACESR_ERROR_DEVICE, [&] {
@@ -76,6 +83,7 @@ facesr_context_def facesr_default_context_def(void) {
   d.solver = FACESR_SOLVER_REALTIME;
   d.inference = FACESR_INFERENCE_OPENCL;
   d.split_device = 0;
+  d.lr_precision = FACESR_PRECISION_AUTO;
   return d;
 }
 

@@ -421,6 +421,7 @@ TEST_F(Capi, DefinitionsSmallerThanVersionOneAreInvalid) {
   EXPECT_EQ(def.solver, FACESR_SOLVER_REALTIME);
   EXPECT_EQ(def.inference, FACESR_INFERENCE_OPENCL);
   EXPECT_EQ(def.split_device, 0);
+  EXPECT_EQ(def.lr_precision, FACESR_PRECISION_AUTO);
   def.inference = FACESR_INFERENCE_CPU;
   facesr_context* c = nullptr;
   // Version 1 ended after `inference`; split_device came later.
@@ -436,6 +437,12 @@ TEST_F(Capi, DefinitionsSmallerThanVersionOneAreInvalid) {
   ASSERT_OK(facesr_context_create(rig_, model_, &def, &c));
   contexts_.push_back(c);
   def.split_device = 0;
+  // A version-2 caller (up to split_device): lr_precision is not its own.
+  def.struct_size = uint32_t(offsetof(facesr_context_def, split_device) + sizeof(int32_t));
+  def.lr_precision = 99;
+  ASSERT_OK(facesr_context_create(rig_, model_, &def, &c));
+  contexts_.push_back(c);
+  def.lr_precision = FACESR_PRECISION_AUTO;
   // A newer caller's bigger definition is read up to what this library knows.
   struct {
     facesr_context_def def;
@@ -467,6 +474,10 @@ TEST_F(Capi, DefinitionsSmallerThanVersionOneAreInvalid) {
   bad = facesr_default_context_def();
   bad.inference = -1;
   EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_context_create(rig_, model_, &bad, &c));
+  bad = facesr_default_context_def();
+  bad.lr_precision = 3;
+  EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_context_create(rig_, model_, &bad, &c));
+  EXPECT_NE(message().find("lr_precision 3"), std::string::npos) << message();
   bad = facesr_default_context_def();
   bad.device_index = -2;
   EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_context_create(rig_, model_, &bad, &c));

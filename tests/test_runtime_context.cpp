@@ -91,6 +91,33 @@ TEST_F(RuntimeFixture, SplitDevicePipelinedGivesTheSameSurfaces) {
   for (size_t f = 0; f < a.size(); ++f) EXPECT_EQ(a[f], b[f]) << "frame " << f;
 }
 
+// The LR simulation in float (the default) and in double: the same
+// surfaces to far below the network's error, and the device says which.
+TEST_F(RuntimeFixture, FloatAndDoubleSimulationsAgree) {
+  const auto w = weights(4);
+  RuntimeOptions dbl;
+  dbl.lr_single_precision = false;
+  RuntimeContext f32(rig_, model_), f64(rig_, model_, dbl);
+  // device(): the simulation's, then " + " and the inference's (always float).
+  const auto sim = [](const RuntimeContext& c) { return c.device().substr(0, c.device().find(" + ")); };
+  EXPECT_NE(sim(f32).find("(OpenCL, float)"), std::string::npos) << f32.device();
+  EXPECT_NE(sim(f64).find("(OpenCL, double)"), std::string::npos) << f64.device();
+  double worst = 0, moved = 0;
+  for (const auto& f : w) {
+    f32.set_weights(f);
+    f64.set_weights(f);
+    f32.step();
+    f64.step();
+    const auto &a = f32.result().embedded, &b = f64.result().embedded;
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, double(std::abs(a[i] - b[i])));
+    for (size_t i = 0; i < a.size(); ++i) moved = std::max(moved, double(std::abs(a[i] - rig_->surface.data()[i])));
+  }
+  std::printf("float vs double: max embedded difference %.2e cm (largest motion %.3f cm)\n", worst, moved);
+  EXPECT_GT(moved, 1e-2);
+  EXPECT_LT(worst, 1e-3);
+}
+
 TEST_F(RuntimeFixture, TwoContextsSharingARigAndModelAgree) {
   const auto w = weights(4);
   RuntimeContext c1(rig_, model_), c2(rig_, model_);

@@ -19,6 +19,14 @@ namespace Facesr
         Accurate = Native.FACESR_SOLVER_ACCURATE,  // Newton to a 1e-3 relative residual (offline)
     }
 
+    // The LR simulation's arithmetic (the inference is always float).
+    public enum Precision
+    {
+        Auto = Native.FACESR_PRECISION_AUTO,      // float with the realtime solver, double with accurate (default)
+        Double = Native.FACESR_PRECISION_DOUBLE,
+        Float = Native.FACESR_PRECISION_FLOAT,
+    }
+
     public enum Inference
     {
         OpenCL = Native.FACESR_INFERENCE_OPENCL,   // the OpenCL kernels (default)
@@ -33,6 +41,7 @@ namespace Facesr
         public Solver Solver = Solver.Realtime;
         public Inference Inference = Inference.OpenCL;
         public bool SplitDevice;           // half the device each for simulation and inference (faster with StepAsync)
+        public Precision LrPrecision = Precision.Auto;
     }
 
     public sealed class Context : IDisposable
@@ -59,6 +68,7 @@ namespace Facesr
                     def.Solver = (int)options.Solver;
                     def.Inference = (int)options.Inference;
                     def.SplitDevice = options.SplitDevice ? 1 : 0;
+                    def.LrPrecision = (int)options.LrPrecision;
                     if (options.DeviceName != null)
                     {
                         byte[] utf8 = Utf8.Encode(options.DeviceName, "options.DeviceName");

@@ -50,6 +50,10 @@ namespace Facesr
         public const int FACESR_SOLVER_REALTIME = 0;
         public const int FACESR_SOLVER_ACCURATE = 1;
 
+        public const int FACESR_PRECISION_AUTO = 0;
+        public const int FACESR_PRECISION_DOUBLE = 1;
+        public const int FACESR_PRECISION_FLOAT = 2;
+
         public const int FACESR_INFERENCE_OPENCL = 0;
         public const int FACESR_INFERENCE_CPU = 1;
 

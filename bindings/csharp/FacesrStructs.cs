@@ -70,6 +70,7 @@ namespace Facesr
         public int Solver;              // FACESR_SOLVER_*
         public int Inference;           // FACESR_INFERENCE_*
         public int SplitDevice;         // nonzero: half the device per stage (for StepAsync)
+        public int LrPrecision;         // FACESR_PRECISION_*
     }
 
     // A spring pulling one surface vertex toward a target. Start from

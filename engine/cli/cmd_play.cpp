@@ -25,7 +25,7 @@ namespace facesr::cli {
 namespace {
 
 struct RuntimeArgs {
-  std::string rig, model, builtin, performance, device, solver = "realtime";
+  std::string rig, model, builtin, performance, device, solver = "realtime", lr_precision = "auto";
   bool cpu_inference = false, split_device = false;
   void add(CLI::App* sub) {
     sub->add_option("--rig", rig, "Rig file")->required();
@@ -34,6 +34,9 @@ struct RuntimeArgs {
     sub->add_option("--performance", performance, "Performance file: keyframe JSON or Live Link Face CSV");
     sub->add_option("--device", device, "OpenCL device: index, name, cpu or gpu (default: first CPU device)");
     sub->add_option("--solver", solver, "realtime (default) | accurate");
+    sub->add_option("--lr-precision", lr_precision,
+                    "LR simulation arithmetic: auto (float with the realtime solver, double with accurate) | "
+                    "double | float");
     sub->add_flag("--cpu-inference", cpu_inference, "The C++ reference inference instead of the OpenCL kernels");
     sub->add_flag("--split-device", split_device,
                   "Half the device's compute units for the simulation, half for the inference (faster with "
@@ -46,6 +49,9 @@ struct RuntimeArgs {
     o.solver = solver == "realtime" ? realtime_solver() : SolverOptions{};
     o.cpu_inference = cpu_inference;
     o.split_device = split_device;
+    require(lr_precision == "auto" || lr_precision == "double" || lr_precision == "float",
+            "--lr-precision must be auto, double or float, not '" + lr_precision + "'");
+    o.lr_single_precision = lr_precision == "float" || (lr_precision == "auto" && solver == "realtime");
     return o;
   }
   Performance load(const Rig& rig) const {

@@ -186,6 +186,7 @@ RuntimeContext::RuntimeContext(std::shared_ptr<const Rig> rig, std::shared_ptr<c
   m.lr_model = make_sim_model(*m.rig, Resolution::Low);
   ClSimulatorOptions cl;
   cl.device = opt.device;
+  cl.single_precision = opt.lr_single_precision;
   const bool split = opt.split_device && !opt.cpu_inference;
   if (split) cl.device.parts = 2, cl.device.part = 0;
   m.sim = make_cl_simulator(m.lr_model, opt.solver, cl);

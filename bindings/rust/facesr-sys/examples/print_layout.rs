@@ -39,7 +39,7 @@ fn main() {
         jaw_axis,
     });
     layout!(facesr_model_info { struct_size, rig_checksum, num_lr_nodes, num_surface_vertices, num_parameters });
-    layout!(facesr_context_def { struct_size, device_index, device_name, solver, inference, split_device });
+    layout!(facesr_context_def { struct_size, device_index, device_name, solver, inference, split_device, lr_precision });
     layout!(facesr_spring_def { struct_size, vertex, target, stiffness });
     layout!(facesr_sphere_def { struct_size, centre, radius, stiffness });
     layout!(facesr_frame_stats {

@@ -32,6 +32,10 @@ pub const FACESR_ERROR_INTERNAL: facesr_status = 10;
 pub const FACESR_SOLVER_REALTIME: i32 = 0;
 pub const FACESR_SOLVER_ACCURATE: i32 = 1;
 
+pub const FACESR_PRECISION_AUTO: i32 = 0;
+pub const FACESR_PRECISION_DOUBLE: i32 = 1;
+pub const FACESR_PRECISION_FLOAT: i32 = 2;
+
 pub const FACESR_INFERENCE_OPENCL: i32 = 0;
 pub const FACESR_INFERENCE_CPU: i32 = 1;
 
@@ -89,6 +93,7 @@ pub struct facesr_context_def {
     pub solver: i32,
     pub inference: i32,
     pub split_device: i32,
+    pub lr_precision: i32,
 }
 
 #[repr(C)]

@@ -16,6 +16,16 @@ pub enum Solver {
     Accurate,
 }
 
+/// The LR simulation's arithmetic (the inference is always float).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Precision {
+    /// Float with the real-time solver, double with the accurate one.
+    #[default]
+    Auto,
+    Double,
+    Float,
+}
+
 /// Which implementation runs the super-resolution network.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Inference {
@@ -39,6 +49,7 @@ pub struct ContextOptions {
     /// Half the device's compute units each for the simulation and the
     /// inference (faster with `step_async` on a CPU, slower without).
     pub split_device: bool,
+    pub lr_precision: Precision,
 }
 
 impl Default for ContextOptions {
@@ -49,6 +60,7 @@ impl Default for ContextOptions {
             solver: Solver::Realtime,
             inference: Inference::OpenCl,
             split_device: false,
+            lr_precision: Precision::Auto,
         }
     }
 }
@@ -158,6 +170,11 @@ impl Context {
             Inference::Cpu => sys::FACESR_INFERENCE_CPU,
         };
         def.split_device = i32::from(options.split_device);
+        def.lr_precision = match options.lr_precision {
+            Precision::Auto => sys::FACESR_PRECISION_AUTO,
+            Precision::Double => sys::FACESR_PRECISION_DOUBLE,
+            Precision::Float => sys::FACESR_PRECISION_FLOAT,
+        };
         // Lives until facesr_context_create returns (the library copies it).
         let name = match &options.device_name {
             Some(n) => Some(
