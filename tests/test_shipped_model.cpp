@@ -46,6 +46,14 @@ TEST(ShippedModel, FitsTheCoarseProceduralRigAndPlays) {
   EXPECT_GT(j.at("fps").get<double>(), 0);
   EXPECT_EQ(j.at("units").get<std::string>(), "cm");
   EXPECT_GT(fs::file_size(gltf), 1000u);
+  // A bad --lr-precision is named, and nothing is written.
+  const std::string none = (dir / "none.gltf").string();
+  r = fixtures::run_cli("play --rig " + q(rig_path) + " --model " + q(kShipped) +
+                            " --builtin anger --frames 2 -q --lr-precision half -o " + q(none),
+                        dir.string());
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("--lr-precision must be auto, double or float, not 'half'"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(none));
   fs::remove_all(dir);
 }
 
