@@ -104,11 +104,37 @@ __kernel void tet_gradient(const uint T, __global const fsr_real* mp, __global c
   for (int k = 0; k < 12; ++k) slots[12 * (size_t)t + k] = g[k];
 }
 
-// The tets' stiffness blocks (tet_blocks) in groups of eight tets: value k
-// of tet t at KE_INDEX(t, k), so that the eight-tet kernel stores each value
-// as one vector and a block's nine values lie within 288 bytes for the
+// Tets per vector for the element kernels below: one 512-bit register,
+// 8 doubles or 16 floats (the host's kProductLanes). preal holds one value
+// per tet, pint one index per tet; pstore_float stores a preal as floats.
+#ifdef FSR_REAL_FLOAT
+#define PRODUCT_LANES 16
+typedef float16 preal;
+typedef int16 pmask;
+typedef int16 pint;
+#define pload(ptr) vload16(0, ptr)
+#define pstore(v, ptr) vstore16((v), 0, (ptr))
+#define iload(ptr) vload16(0, ptr)
+#define CLOAD(ptr) vload16(0, ptr)
+#define pstore_float(v, ptr) vstore16((v), 0, (ptr))
+#else
+#define PRODUCT_LANES 8
+typedef double8 preal;
+typedef long8 pmask;
+typedef int8 pint;
+#define pload(ptr) vload8(0, ptr)
+#define pstore(v, ptr) vstore8((v), 0, (ptr))
+#define iload(ptr) vload8(0, ptr)
+#define CLOAD(ptr) convert_double8(vload8(0, ptr))
+#define pstore_float(v, ptr) vstore8(convert_float8(v), 0, (ptr))
+#endif
+
+// The tets' stiffness blocks (tet_blocks) in groups of PRODUCT_LANES tets:
+// value k of tet t at KE_INDEX(t, k), so that the vector kernel stores each
+// value as one vector and a block's nine values lie close together for the
 // gather in assemble_stiffness (k·Tp strides put each in another cache line).
-#define KE_INDEX(t, k) ((((size_t)(t) >> 3) * 90 + (size_t)(k)) * 8 + ((t) & 7))
+#define KE_INDEX(t, k) \
+  ((((size_t)(t) / PRODUCT_LANES) * 90 + (size_t)(k)) * PRODUCT_LANES + ((t) % PRODUCT_LANES))
 
 // dP/dF (definiteness-fixed) per tet, packed and component-major (C_g[k·Tp +
 // t], Tp the tet count rounded up to PRODUCT_LANES), and its four diagonal
@@ -142,7 +168,7 @@ __kernel void tet_hessian(const uint T, __global const fsr_real* mp, __global co
   for (int k = 0; k < 36; ++k) dslots[36 * (size_t)t + k] = D[k];
 }
 
-// ---- Element kernels, eight tets per work-item (CPU devices) ----
+// ---- Element kernels, a vector of tets per work-item (CPU devices) ----
 // PoCL compiles a one-tet-per-work-item kernel with loops as scalar code, so
 // on CPU devices every per-tet kernel (energy, gradient, Hessian, stiffness
 // product) takes PRODUCT_LANES consecutive tets, one per vector lane: the
@@ -151,17 +177,6 @@ __kernel void tet_hessian(const uint T, __global const fsr_real* mp, __global co
 // vectors); padding tets (t ≥ T) have zero Dminv, volume, fibre fraction and
 // activation, stay finite, and are never stored into slots. The one-tet
 // kernels above stay for GPUs, where a work-item per tet is the natural fit.
-#define PRODUCT_LANES 8
-#ifdef FSR_REAL_FLOAT
-typedef float8 preal;
-typedef int8 pmask;
-#define CLOAD(ptr) vload8(0, ptr)
-#else
-typedef double8 preal;
-typedef long8 pmask;
-#define CLOAD(ptr) convert_double8(vload8(0, ptr))
-#endif
-#define pload(ptr) vload8(0, ptr)
 
 #define FSR_T preal
 #define FSR(name) fsr8_##name
@@ -175,16 +190,22 @@ typedef long8 pmask;
 #undef FSR_ALL
 #undef FSR_M
 
-// The 4 corners' node vectors (x: node × 3) of tets t0..t0+7, corner-major
+// The 4 corners' node vectors (x: node × 3) of tets t0… (one vector), corner-major
 // per lane: xc[3k + c] is component c of corner k.
 void gather_corners8(uint t0, uint Tp, __global const int* tets_cm, __global const fsr_real* x, preal* xc) {
   #pragma unroll
   for (int k = 0; k < 4; ++k) {
-    const int8 n = 3 * vload8(0, tets_cm + (size_t)k * Tp + t0);
+    const pint n = 3 * iload(tets_cm + (size_t)k * Tp + t0);
     #pragma unroll
     for (int c = 0; c < 3; ++c)
+#if PRODUCT_LANES == 16
+      xc[3 * k + c] = (preal)(x[n.s0 + c], x[n.s1 + c], x[n.s2 + c], x[n.s3 + c], x[n.s4 + c], x[n.s5 + c],
+                              x[n.s6 + c], x[n.s7 + c], x[n.s8 + c], x[n.s9 + c], x[n.sa + c], x[n.sb + c],
+                              x[n.sc + c], x[n.sd + c], x[n.se + c], x[n.sf + c]);
+#else
       xc[3 * k + c] = (preal)(x[n.s0 + c], x[n.s1 + c], x[n.s2 + c], x[n.s3 + c], x[n.s4 + c], x[n.s5 + c],
                               x[n.s6 + c], x[n.s7 + c]);
+#endif
   }
 }
 
@@ -203,7 +224,7 @@ void store_tets8(uint T, uint t0, int count, const preal* v, __global fsr_real* 
   fsr_real lane[PRODUCT_LANES];
   const uint n = min((uint)PRODUCT_LANES, T - t0);
   for (int k = 0; k < count; ++k) {
-    vstore8(v[k], 0, lane);
+    pstore(v[k], lane);
     for (uint l = 0; l < n; ++l) out[count * (size_t)(t0 + l) + k] = lane[l];
   }
 }
@@ -220,7 +241,7 @@ __kernel void tet_energy8(const uint T, const uint Tp, __global const fsr_real* 
   load_tets8(t0, Tp, tets_cm, x, Dminv_cm, fibre_cm, xc, Dm, a);
   fsr8_tet_F(xc, Dm, F);
   const preal psi = fsr8_energy_density(&m, F, a, pload(phi_p + t0), pload(alpha_p + t0));
-  vstore8(pload(vol_p + t0) * psi, 0, e + t0);
+  pstore(pload(vol_p + t0) * psi, e + t0);
 }
 
 __kernel void tet_gradient8(const uint T, const uint Tp, __global const fsr_real* mp, __global const int* tets_cm,
@@ -258,7 +279,7 @@ __kernel void tet_hessian8(const uint T, const uint Tp, __global const fsr_real*
     preal Kb[90];
     fsr8_tet_blocks(C, Dm, pload(vol_p + t0), Kb);
     #pragma unroll
-    for (int k = 0; k < 90; ++k) vstore8(convert_float8(Kb[k]), 0, Ke + KE_INDEX(t0, k));
+    for (int k = 0; k < 90; ++k) pstore_float(Kb[k], Ke + KE_INDEX(t0, k));
     return;
   }
   fsr8_tet_diag_blocks(C, Dm, pload(vol_p + t0), D);
@@ -267,7 +288,7 @@ __kernel void tet_hessian8(const uint T, const uint Tp, __global const fsr_real*
   for (int r = 0; r < 9; ++r)
     #pragma unroll
     for (int c = r; c < 9; ++c)
-      vstore8(convert_float8((fsr_real)0.5 * (C[9 * r + c] + C[9 * c + r])), 0, C_g + (size_t)(n++) * Tp + t0);
+      pstore_float((fsr_real)0.5 * (C[9 * r + c] + C[9 * c + r]), C_g + (size_t)(n++) * Tp + t0);
   store_tets8(T, t0, 36, D, dslots);
 }
 
@@ -285,10 +306,11 @@ __kernel void frame_targets8(const uint S, const uint B, __global const fsr_real
   }
 #ifdef FSR_REAL_FLOAT
 #define TO_REAL8(x) (x)
+  float8 v = vload8(0, surf_rest + i0);
 #else
 #define TO_REAL8(x) convert_double8(x)
+  double8 v = vload8(0, surf_rest + i0);
 #endif
-  preal v = vload8(0, surf_rest + i0);
   for (uint b = 0; b < B; ++b) {
     const float w = weights[b];
     if (w != 0.0f) v += (fsr_real)w * TO_REAL8(vload8(0, deltas + (size_t)b * n + i0));
@@ -576,7 +598,7 @@ __kernel void product_tets(const uint T, const uint Tp, __global const int* tets
   const uint n = min((uint)PRODUCT_LANES, T - t0);
   #pragma unroll
   for (int k = 0; k < 12; ++k) {
-    vstore8(y[k], 0, lane);
+    pstore(y[k], lane);
     for (uint l = 0; l < n; ++l) slots[12 * (size_t)(t0 + l) + k] = lane[l];
   }
 }
@@ -678,9 +700,9 @@ __kernel void assemble_stiffness(const uint N, const uint Tp, const int track_mo
       __global const float* src = Ke + (ref >> 1);
       if (ref & 1) {
         for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) A[3 * r + c] += src[8 * (3 * c + r)];
+          for (int c = 0; c < 3; ++c) A[3 * r + c] += src[PRODUCT_LANES * (3 * c + r)];
       } else {
-        for (int e = 0; e < 9; ++e) A[e] += src[8 * e];
+        for (int e = 0; e < 9; ++e) A[e] += src[PRODUCT_LANES * e];
       }
     }
     if (track_mode) {

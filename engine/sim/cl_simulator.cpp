@@ -551,7 +551,7 @@ class ClSimulator final : public Simulator {
     std::vector<int32_t> ke_ref(sp.tet_ref.size());
     for (size_t i = 0; i < ke_ref.size(); ++i) {
       const int64_t ref = sp.tet_ref[i], q = ref >> 1, t = q / 10, pair = q % 10;
-      const int64_t at = ((t >> 3) * 90 + 9 * pair) * 8 + (t & 7);
+      const int64_t L = kProductLanes, at = ((t / L) * 90 + 9 * pair) * L + t % L;  // KE_INDEX
       if (2 * at + 1 > std::numeric_limits<int32_t>::max()) throw Error("stiffness pattern: too many tets for 32-bit offsets");
       ke_ref[i] = int32_t(2 * at + (ref & 1));
     }
@@ -666,7 +666,8 @@ class ClSimulator final : public Simulator {
   Buffer<float> deltas_, weights_;
   mutable Buffer<float> surf_out_;
   Buffer<Real> act_, alpha_, target_, spring_k_, spring_target_, frame_;
-  static constexpr uint32_t kProductLanes = 8;  // PRODUCT_LANES in cl/sim.cl
+  // PRODUCT_LANES in cl/sim.cl: tets per 512-bit vector.
+  static constexpr uint32_t kProductLanes = sizeof(Real) == 4 ? 16 : 8;
   uint32_t Tp_ = 0;
   Buffer<cl_int> tets_cm_;
   Buffer<Real> Dminv_cm_, fibre_cm_, vol_p_;
