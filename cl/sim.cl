@@ -683,7 +683,7 @@ __kernel void gather_dot(const uint N, __global const int* inc_offset, __global 
 // track_mode 1: the surface share is the track springs' fixed `track` (see
 // gather_dot); 0: every surface vertex's Hessian surfH (point springs,
 // spheres), weighted by its embedding.
-__kernel void assemble_stiffness(const uint N, const uint Tp, const int track_mode, __global const int* row_offset,
+__kernel void assemble_stiffness(const uint N, const int track_mode, __global const int* row_offset,
                                  __global const int* col, __global const int* tet_offset,
                                  __global const int* tet_ref, __global const int* surf_offset,
                                  __global const int* surf_ref, __global const fsr_real* track,

@@ -66,6 +66,16 @@ Performance sample(const std::string& name, double duration, const std::vector<s
   return sample(name, duration, rig_names, indexed);
 }
 
+// Through control values c[i] at t = i·step, cosine-eased between them
+// (velocities continuous, zero at the controls).
+Curve eased_controls(std::vector<double> c, double step) {
+  return [c = std::move(c), step](double t) {
+    const int i = std::min(int(t / step), int(c.size()) - 2);
+    const double u = std::clamp(t / step - i, 0.0, 1.0);
+    return c[i] + (0.5 - 0.5 * std::cos(M_PI * u)) * (c[i + 1] - c[i]);
+  };
+}
+
 Performance smile(const std::vector<std::string>& names) {
   return sample("smile", 2.0, names, {{"mouthSmile", [](double t) { return triangle(t, 2.0); }}});
 }
@@ -108,12 +118,7 @@ Performance random(const std::vector<std::string>& names) {
     // standard libraries.
     std::vector<double> c(controls, 0.0);
     for (int i = 1; i < controls; ++i) c[i] = double(gen() >> 11) * 0x1.0p-53;
-    curves.emplace_back(std::vector<size_t>{s}, [c, step](double t) {
-      const int i = std::min(int(t / step), int(c.size()) - 2);
-      const double u = std::clamp(t / step - i, 0.0, 1.0);
-      const double e = 0.5 - 0.5 * std::cos(M_PI * u);
-      return c[i] + e * (c[i + 1] - c[i]);
-    });
+    curves.emplace_back(std::vector<size_t>{s}, eased_controls(c, step));
   }
   return sample("random", T, names, curves);
 }
@@ -155,11 +160,7 @@ Performance sparse(const std::vector<std::string>& names) {
   }
   std::vector<std::pair<std::vector<size_t>, Curve>> curves;
   for (size_t s = 0; s < names.size(); ++s)
-    curves.emplace_back(std::vector<size_t>{s}, [cs = c[s], step](double t) {
-      const int i = std::min(int(t / step), int(cs.size()) - 2);
-      const double u = std::clamp(t / step - i, 0.0, 1.0);
-      return cs[i] + (0.5 - 0.5 * std::cos(M_PI * u)) * (cs[i + 1] - cs[i]);
-    });
+    curves.emplace_back(std::vector<size_t>{s}, eased_controls(c[s], step));
   return sample("sparse", T, names, curves);
 }
 

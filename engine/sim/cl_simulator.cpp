@@ -285,12 +285,7 @@ class ClSimulator final : public Simulator {
       });
     }
     if (assembled_) {
-      time("assemble_stiffness", [&] {
-        k("assemble_stiffness")
-            .args(N, Tp_, cl_int(1), kp_row_, kp_col_, kp_tet_offset_, kp_tet_ref_, kp_surf_offset_, kp_surf_ref_,
-                  kp_track_, inc_[0].vertices, surf_w_, surfH_, Ke_, K_, Minv_)
-            .run_1d(N, local_);
-      });
+      time("assemble_stiffness", [&] { assemble_matrix(true); });
       time("spmv_dot", [&] {
         k("spmv_dot").args(N, kp_row_, kp_col_, K_, p_, q_, partial_, LocalMemory{local_ * sizeof(Real)}, no_stop_).run_1d(N, local_);
       });
@@ -442,16 +437,22 @@ class ClSimulator final : public Simulator {
       // Track springs only: their fixed share is in the pattern, no surface pass.
       const bool track = cur_ == &inc_[1];
       if (!track) surface_terms(x, fix ? 2 : 3);
-      k("assemble_stiffness")
-          .args(N, Tp_, cl_int(track ? 1 : 0), kp_row_, kp_col_, kp_tet_offset_, kp_tet_ref_, kp_surf_offset_,
-                kp_surf_ref_, kp_track_, inc_[0].vertices, surf_w_, surfH_, Ke_, K_, Minv_)
-          .run_1d(N, local_);
+      assemble_matrix(track);
       return;
     }
     surface_terms(x, fix ? 2 : 3);
     k("gather_diag_inverse").args(N, cur_->offset, cur_->slot, bone_, dslots_, Minv_).run_1d(N, local_);
   }
 
+
+  // K and the block-Jacobi inverse from the tets' blocks in Ke_ and, unless
+  // `track` (the track springs' fixed share only), the surface Hessians.
+  void assemble_matrix(bool track) {
+    k("assemble_stiffness")
+        .args(uint32_t(m_.num_nodes), cl_int(track ? 1 : 0), kp_row_, kp_col_, kp_tet_offset_, kp_tet_ref_,
+              kp_surf_offset_, kp_surf_ref_, kp_track_, inc_[0].vertices, surf_w_, surfH_, Ke_, K_, Minv_)
+        .run_1d(m_.num_nodes, local_);
+  }
 
   // q = K p over free nodes; returns p·q.
   double product_dot(const Buffer<Real>& p, Buffer<Real>& q) {
