@@ -30,7 +30,7 @@ if [[ -f "$ICT_DIR/generic_neutral_mesh.obj" ]]; then
 else
   echo "demo: ICT FaceKit data not found at $ICT_DIR; skipping the ICT rig" >&2
 fi
-# Real-time demo. The rig build is deterministic, so the shipped models
+# Real-time demo. The rig build is deterministic (on any x86-64 CPU), so the shipped models
 # (scripts/make-procedural-model.sh, docs/network.md) fit the rigs built here;
 # a model made for another rig is refused by its checksum.
 $F rig build --source procedural --preset coarse -o out/procedural_coarse.rig

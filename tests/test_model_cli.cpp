@@ -1,11 +1,13 @@
-// `facesr model info` and `facesr model zero-rest` through the real binary:
-// the copy differs from its source only in zero_rest (and says so in its
-// training record), and bad input fails with a message and no output file.
+// `facesr model info`, `zero-rest` and `rebind` through the real binary: a
+// copy differs from its source only in what the command changes (and says so
+// in its training record), and bad input fails with a message and no output
+// file.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "rig/rig_io.h"
 #include "sr/sr_model.h"
 #include "test_support.h"
 
@@ -46,6 +48,54 @@ TEST_F(ModelCli, ZeroRestWritesACopyThatDiffersOnlyInZeroRest) {
   EXPECT_NE(again.status, 0);
   EXPECT_NE(again.err.find("already set"), std::string::npos) << again.err;
   EXPECT_FALSE(fs::exists(path("zr2.fsm")));
+}
+
+TEST_F(ModelCli, RebindCarriesAModelOverToARigWithItsGeometryAndNoOther) {
+  const SrModel src = load_sr_model(shipped());
+  const Rig& base = fixtures::procedural_rig();
+  // Same rest poses, neighbourhoods and embedding, another checksum (a muscle
+  // is thicker): the copy is bound to it and its weights are untouched.
+  Rig moved = base;
+  moved.muscles.at(0).radius *= 1.01;
+  save_rig(moved, path("moved.rig"));
+  auto r = run("model rebind " + fixtures::shell_quote(shipped()) + " --rig " + q("moved.rig") + " -o " +
+               q("moved.fsm") + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("max_position_cm").get<double>(), 0.0);
+  const SrModel out = load_sr_model(path("moved.fsm"));
+  EXPECT_EQ(out.rig_checksum, rig_checksum(moved));
+  EXPECT_NE(out.rig_checksum, src.rig_checksum);
+  const size_t before = src.training.contains("rebound") ? src.training.at("rebound").size() : 0;
+  ASSERT_EQ(out.training.at("rebound").size(), before + 1);
+  EXPECT_EQ(out.training.at("rebound").back().at("to_checksum").get<std::string>(), j.at("to_checksum").get<std::string>());
+  ASSERT_EQ(out.tensors.size(), src.tensors.size());
+  for (size_t i = 0; i < src.tensors.size(); ++i) EXPECT_EQ(out.tensors[i].values, src.tensors[i].values) << i;
+  EXPECT_EQ(out.geometry.up_index, src.geometry.up_index);
+
+  // Bound already: refused.
+  r = run("model rebind " + q("moved.fsm") + " --rig " + q("moved.rig") + " -o " + q("again.fsm"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("already bound"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("again.fsm")));
+
+  // A surface vertex 0.01 cm away: the rest poses (or what they decide) differ; refused.
+  Rig bent = base;
+  bent.surface(0, 0) += 0.01;
+  save_rig(bent, path("bent.rig"));
+  r = run("model rebind " + fixtures::shell_quote(shipped()) + " --rig " + q("bent.rig") + " -o " + q("bent.fsm"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("differ"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("bent.fsm")));
+
+  // Another head: refused by name.
+  Rig other = base;
+  other.name = "other";
+  save_rig(other, path("other.rig"));
+  r = run("model rebind " + fixtures::shell_quote(shipped()) + " --rig " + q("other.rig") + " -o " + q("o.fsm"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("belongs to rig 'procedural', not 'other'"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("o.fsm")));
 }
 
 TEST_F(ModelCli, MissingOrCorruptModelsFailWithoutOutput) {

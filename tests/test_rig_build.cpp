@@ -14,6 +14,7 @@
 #include "rig/rig_build.h"
 #include "rig/rig_io.h"
 #include "rig/rig_summary.h"
+#include "sr/sr_model.h"
 #include "test_support.h"
 
 using namespace facesr;
@@ -196,4 +197,9 @@ TEST(RigIct, DefaultBuildMeetsTheRigGoals) {
   const double tol = 1e-6 * face_size(r);
   for (int i = 0; i < r.surface.rows(); ++i)
     ASSERT_LT((embedded(r.hr.mesh, r.hr.surface, i) - Vec3(r.surface.row(i))).norm(), tol);
+  // The shipped ICT model is bound to this build by checksum (the demo plays it).
+  const SrModel shipped = load_sr_model(std::string(FACESR_TEST_SOURCE_DIR) + "/samples/assets/ict.fsm");
+  EXPECT_EQ(shipped.rig_checksum, rig_checksum(r))
+      << "samples/assets/ict.fsm is stale for this rig build: retrain it, or `facesr model rebind` it when the "
+         "rig's geometry is unchanged";
 }

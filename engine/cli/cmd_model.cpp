@@ -1,11 +1,16 @@
-// `facesr model`: inspect a trained model file, and set zero_rest on one
-// after training (how the shipped ICT model was made: see docs/network.md).
+// `facesr model`: inspect a trained model file, set zero_rest on one after
+// training (how the shipped ICT model was made: see docs/network.md), and
+// carry a model over to a rebuilt rig whose geometry it still matches.
+#include <algorithm>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
 #include "core/error.h"
+#include "core/framed_file.h"
+#include "rig/rig_io.h"
+#include "sr/sr_geometry_compare.h"
 #include "sr/sr_model.h"
 
 namespace facesr::cli {
@@ -65,6 +70,58 @@ void register_model(CLI::App& app) {
     m.training["zero_rest_added_after_training"] = true;
     save_sr_model(zr.out, m);  // written to a temporary name, then renamed
     if (zr.json) std::printf("%s\n", model_summary(m, zr.out).dump(2).c_str());
+  });
+
+  struct RebindArgs {
+    std::string rig, in, out;
+    double tolerance_cm = 1e-5;
+    bool json = false;
+  };
+  static RebindArgs rb;
+  auto* b = model->add_subcommand(
+      "rebind",
+      "Write a copy bound to a rebuilt rig, after checking that the rig gives the rest poses, neighbourhoods and "
+      "embedding the model was trained with");
+  b->add_option("model", rb.in, "Trained model file (.fsm)")->required();
+  b->add_option("--rig", rb.rig, "The rebuilt rig (.rig)")->required();
+  b->add_option("-o,--out", rb.out, "Output model file")->required();
+  b->add_option("--tolerance", rb.tolerance_cm,
+                "Largest difference allowed in positions and distances (cm) and in embedding weights")
+      ->check(CLI::PositiveNumber);
+  b->add_flag("--json", rb.json,
+              "Print a JSON summary: from_checksum, to_checksum, max_position_cm, max_distance_cm, max_weight");
+  add_action(b, [] {
+    SrModel m = load_sr_model(rb.in);
+    const Rig rig = load_rig(rb.rig);
+    const std::string what = rb.in + " and " + rb.rig;
+    require(m.rig_name == rig.name, what + ": the model belongs to rig '" + m.rig_name + "', not '" + rig.name + "'");
+    const uint64_t to = rig_checksum(rig);
+    require(m.rig_checksum != to, what + ": the model is already bound to this rig");
+    const SrGeometry now = build_sr_geometry(rig, {m.geometry.graph_k, m.geometry.upsample_k});
+    const SrGeometryDifference d = compare_sr_geometry(m.geometry, now);
+    require(d.topology_mismatch.empty(), what + ": the rig's " + d.topology_mismatch +
+                                             " differs from the model's; retrain the model for this rig");
+    const double worst = std::max({d.max_position_cm, d.max_distance_cm, d.max_weight});
+    require(worst <= rb.tolerance_cm, what + ": rest poses differ by up to " + std::to_string(d.max_position_cm) +
+                                          " cm, distances by " + std::to_string(d.max_distance_cm) +
+                                          " cm, embedding weights by " + std::to_string(d.max_weight) +
+                                          ", more than --tolerance " + std::to_string(rb.tolerance_cm));
+    const nlohmann::json record = {{"from_checksum", hex64(m.rig_checksum)},
+                                   {"to_checksum", hex64(to)},
+                                   {"max_position_cm", d.max_position_cm},
+                                   {"max_distance_cm", d.max_distance_cm},
+                                   {"max_weight", d.max_weight}};
+    m.training["rebound"].push_back(record);
+    m.rig_checksum = to;
+    save_sr_model(rb.out, m);  // written to a temporary name, then renamed
+    if (rb.json) {
+      auto s = model_summary(m, rb.out);
+      s.update(record);
+      std::printf("%s\n", s.dump(2).c_str());
+    } else {
+      std::printf("%s: bound to %s (%s; rest poses within %.3g cm)\n", rb.out.c_str(), rb.rig.c_str(),
+                  hex64(to).c_str(), d.max_position_cm);
+    }
   });
 }
 
