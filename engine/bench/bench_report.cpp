@@ -1,5 +1,6 @@
 #include "bench/bench_report.h"
 
+#include <cctype>
 #include <ctime>
 #include <fstream>
 #include <sstream>
@@ -10,15 +11,32 @@
 
 namespace facesr {
 
-std::string machine_description() {
+namespace {
+
+std::string cpu_model() {
   std::ifstream in("/proc/cpuinfo");
-  std::string line, model = "unknown CPU";
+  std::string line;
   while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " cores";
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown CPU";
+}
+
+}  // namespace
+
+std::string machine_description() {
+  return cpu_model() + ", " + std::to_string(std::thread::hardware_concurrency()) + " cores";
+}
+
+std::string machine_slug() {
+  std::string slug;
+  for (char c : cpu_model()) {
+    if (std::isalnum(static_cast<unsigned char>(c)))
+      slug += char(std::tolower(static_cast<unsigned char>(c)));
+    else if (!slug.empty() && slug.back() != '-')
+      slug += '-';
+  }
+  while (!slug.empty() && slug.back() == '-') slug.pop_back();
+  return slug.empty() ? "unknown-cpu" : slug;
 }
 
 std::string today_iso() {

@@ -220,7 +220,7 @@ void add_bench_runtime(CLI::App* bench) {
     nlohmann::json r = bench_runtime(rig, model, w, o);
     r["rig"] = rig->name;
     r["solver_preset"] = a.rt.solver;
-    if (!a.markdown.empty()) update_markdown_section(a.markdown, "bench-runtime-" + rig->name, runtime_bench_markdown(r));
+    if (!a.markdown.empty()) update_markdown_section(a.markdown, "bench-runtime-" + rig->name + "-" + machine_slug(), runtime_bench_markdown(r));
     if (a.json)
       std::printf("%s\n", r.dump(2).c_str());
     else

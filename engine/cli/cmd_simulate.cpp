@@ -330,7 +330,7 @@ void register_bench(CLI::App& app) {
     r["rig"] = rig.name;
     r["solver_preset"] = a.solver.preset;
     if (!a.markdown.empty())
-      update_markdown_section(a.markdown, "bench-sim-" + a.solver.preset + "-" + rig.name,
+      update_markdown_section(a.markdown, "bench-sim-" + a.solver.preset + "-" + rig.name + "-" + machine_slug(),
                               sim_bench_markdown(r));
     if (a.json)
       std::printf("%s\n", r.dump(2).c_str());
