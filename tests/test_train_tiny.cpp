@@ -163,6 +163,10 @@ TEST_F(TrainTiny, VaeBaselineTrains) {
   v.vae_latent = 8;
   v.vae_decoder = {32, 64};
   TrainOptions o = options("vae.fsm", 6);
+  // The paper's VAE rate (appendix A.4). At the tests' 1e-3 the sampled
+  // latent made the last epoch's loss noisy enough to end above the first's
+  // on an AVX2 CPU (0.0140 -> 0.0212 cm after 6 epochs; 0.0131 at 1e-4).
+  o.learning_rate = 1e-4;
   const TrainSummary s = train_model(fixtures::procedural_rig(), v, o);
   EXPECT_LT(s.final_l1_cm, s.first_l1_cm);
   const SrModel m = load_sr_model(path("vae.fsm"));
