@@ -49,10 +49,10 @@ bool point_query_callback(RTCPointQueryFunctionArguments* args) {
 SurfaceQuery::SurfaceQuery(const Points& V, const Tris& F) : V_(V), F_(F), impl_(new Impl) {
   require(V.rows() > 0 && F.rows() > 0, "SurfaceQuery: empty mesh");
   // Callers parallelise over queries, hence one thread. The ISA is pinned
-  // because Embree's kernels for different instruction sets (SSE, AVX,
-  // AVX-512) return ray hits that differ in the last bits, and the rig
-  // builder's results, hence the rig checksum a shipped model is bound to,
-  // must not depend on the CPU it runs on. SSE2 is on every x86-64 CPU; the
+  // because the rig builder's results depend on which of Embree's kernels
+  // run (measured: the same build gives one rig checksum with isa=sse2 or
+  // sse4.2 and another with avx or avx2), and the checksum a shipped model is
+  // bound to must not depend on the CPU. SSE2 is on every x86-64 CPU; the
   // ICT rig builds as fast with it (measured, 25 s either way).
   impl_->device = rtcNewDevice("threads=1,isa=sse2");
   require(impl_->device != nullptr, "Embree: cannot create device");
