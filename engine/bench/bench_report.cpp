@@ -13,12 +13,24 @@ namespace facesr {
 
 namespace {
 
+// The CPU's name, and its family and model numbers when /proc/cpuinfo gives
+// them: virtual machines often report a bare "AMD EPYC" or "Intel(R) Xeon(R)
+// Processor" for CPUs generations apart (a Zen 1 with AVX2 and a Zen 5 with
+// AVX-512 both read "AMD EPYC"), and their speeds must not share a section.
 std::string cpu_model() {
   std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  return "unknown CPU";
+  std::string line, name = "unknown CPU", family, model;
+  auto value = [&] { return line.substr(line.find(':') + 2); };
+  while (std::getline(in, line) && line.find_first_not_of(" \t") != std::string::npos) {
+    if (line.rfind("model name", 0) == 0)
+      name = value();
+    else if (line.rfind("cpu family", 0) == 0)
+      family = value();
+    else if (line.rfind("model", 0) == 0 && line.find(':') != std::string::npos)
+      model = value();
+  }
+  if (!family.empty() && !model.empty()) name += " (family " + family + ", model " + model + ")";
+  return name;
 }
 
 }  // namespace

@@ -3,9 +3,10 @@
 
 namespace facesr {
 
-// "AMD EPYC 7B13, 2 cores" from /proc/cpuinfo and the scheduler's CPU count.
+// "AMD EPYC (family 26, model 2), 2 cores" from /proc/cpuinfo and the
+// scheduler's CPU count.
 std::string machine_description();
-// The CPU model as a Markdown-tag-safe word ("amd-epyc-7b13"): speed
+// The CPU model as a Markdown-tag-safe word ("amd-epyc-family-26-model-2"): speed
 // benchmarks keep one section per rig and machine, so that a run on another
 // machine adds its numbers instead of replacing the last machine's.
 std::string machine_slug();
