@@ -7,6 +7,7 @@
 
 #include "core/binary_io.h"
 #include "core/checksum.h"
+#include "core/number_text.h"
 
 namespace facesr::fsd {
 namespace {
@@ -42,12 +43,6 @@ void take_floats(const uint8_t*& p, float* v, size_t n) {
 std::string hex(uint64_t v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "0x%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
-
-std::string number_text(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
   return buf;
 }
 

@@ -96,6 +96,5 @@ class FileReader {
 };
 
 std::string hex(uint64_t v);
-std::string number_text(double v);
 
 }  // namespace facesr::fsd

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/number_text.h"
 
 namespace facesr {
 namespace {
@@ -39,12 +40,6 @@ std::vector<std::string> split_fields(const std::string& line) {
   while (std::getline(in, field, ',')) out.push_back(trim(field));
   if (!line.empty() && line.back() == ',') out.emplace_back();  // getline drops a trailing empty field
   return out;
-}
-
-std::string number_text(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
 }
 
 // Strict decimal: the whole text, finite (strtod alone would accept "nan", "inf", "1.5x" as 1.5).
@@ -86,8 +81,8 @@ double parse_time(const std::string& s, double capture_fps, const std::string& w
   require(ok, where + ": '" + s + "' is not a timecode HH:MM:SS:FF.fff (or seconds)");
   require(m < 60 && sec < 60, where + ": '" + s + "' has minutes or seconds above 59");
   require(std::floor(frame) < capture_fps,
-          where + ": frame " + number_text(std::floor(frame)) + " in '" + s + "' is not below the capture rate " +
-              number_text(capture_fps) + " fps (is the capture fps right?)");
+          where + ": frame " + number_text(std::floor(frame), 6) + " in '" + s + "' is not below the capture rate " +
+              number_text(capture_fps, 6) + " fps (is the capture fps right?)");
   return h * 3600.0 + m * 60.0 + sec + frame / capture_fps;
 }
 
@@ -151,8 +146,8 @@ std::vector<Line> read_lines(const std::string& path) {
 Performance load_livelink_csv(const std::string& path, const std::vector<std::string>& rig_names, double capture_fps,
                               double out_fps, LiveLinkReport* report_out) {
   require(capture_fps > 0 && capture_fps <= kMaxFps,
-          path + ": capture fps " + number_text(capture_fps) + " is not in (0, 1000]");
-  require(out_fps > 0 && out_fps <= kMaxFps, path + ": output fps " + number_text(out_fps) + " is not in (0, 1000]");
+          path + ": capture fps " + number_text(capture_fps, 6) + " is not in (0, 1000]");
+  require(out_fps > 0 && out_fps <= kMaxFps, path + ": output fps " + number_text(out_fps, 6) + " is not in (0, 1000]");
   const std::vector<Line> lines = read_lines(path);
   require(!lines.empty(), path + ": is empty (expected a Live Link Face header line and rows)");
 
@@ -216,8 +211,8 @@ Performance load_livelink_csv(const std::string& path, const std::vector<std::st
                          ? parse_time(fields[time_column], capture_fps, at + ": column '" + header[time_column] + "'")
                          : double(r - 1) / capture_fps;
     if (!times.empty())
-      require(t > times.back(), at + ": time " + number_text(t) + " s is not after line " +
-                                    std::to_string(previous_line) + "'s " + number_text(times.back()) +
+      require(t > times.back(), at + ": time " + number_text(t, 6) + " s is not after line " +
+                                    std::to_string(previous_line) + "'s " + number_text(times.back(), 6) +
                                     " s (times must increase)");
     times.push_back(t);
     previous_line = lines[r].number;
@@ -235,8 +230,8 @@ Performance load_livelink_csv(const std::string& path, const std::vector<std::st
 
   // Resample from the first row's time.
   const double span = (times.back() - times.front()) * out_fps;
-  require(span < kMaxFrames, path + ": the take spans " + number_text(times.back() - times.front()) +
-                                 " s, more than " + number_text(kMaxFrames) + " frames at " + number_text(out_fps) +
+  require(span < kMaxFrames, path + ": the take spans " + number_text(times.back() - times.front(), 6) +
+                                 " s, more than " + number_text(kMaxFrames, 6) + " frames at " + number_text(out_fps, 6) +
                                  " fps (a broken timecode?)");
   Performance p;
   p.name = std::filesystem::path(path).stem().string();

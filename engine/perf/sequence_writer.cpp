@@ -6,17 +6,12 @@
 
 #include "core/checksum.h"
 #include "core/error.h"
+#include "core/number_text.h"
 #include "perf/sequence_format.h"
 #include "perf/sequence_io.h"
 
 namespace facesr {
 namespace {
-
-std::string number_text(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
 
 }  // namespace
 

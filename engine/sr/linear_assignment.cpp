@@ -26,7 +26,7 @@ namespace facesr {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNoPath = std::numeric_limits<double>::infinity();
 
 struct LapState {
   int rows, cols;
@@ -50,7 +50,7 @@ struct LapState {
     for (int it = 0; it < cols; ++it) remaining[it] = cols - 1 - it;
     std::fill(row_seen.begin(), row_seen.end(), 0);
     std::fill(col_seen.begin(), col_seen.end(), 0);
-    std::fill(path_cost.begin(), path_cost.end(), kInf);
+    std::fill(path_cost.begin(), path_cost.end(), kNoPath);
     int sink = -1;
     int i = start;
     while (sink < 0) {
@@ -58,7 +58,7 @@ struct LapState {
       const double* ci = cost + size_t(i) * size_t(cols);
       const double base = min_val - u[i];
       int best = -1;
-      double lowest = kInf;
+      double lowest = kNoPath;
       for (int it = 0; it < num_remaining; ++it) {
         const int j = remaining[it];
         const double r = base + ci[j] - v[j];
@@ -71,7 +71,7 @@ struct LapState {
           best = it;
         }
       }
-      require(best >= 0 && lowest < kInf, "linear assignment: no feasible augmenting path (non-finite costs?)");
+      require(best >= 0 && lowest < kNoPath, "linear assignment: no feasible augmenting path (non-finite costs?)");
       min_val = lowest;
       const int j = remaining[best];
       col_seen[j] = 1;
