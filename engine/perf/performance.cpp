@@ -32,6 +32,7 @@ std::string lower(std::string s) {
   return s;
 }
 
+// As the messages have always named values: "NaN", 6 digits.
 std::string control_text(double v) { return std::isnan(v) ? "NaN" : number_text(v, 6); }
 
 // "unknown blendshape 'jawopen' (did you mean 'jawOpen'?)" or a few valid names.
@@ -73,8 +74,8 @@ void parse_jaw_vector(const nlohmann::json& jaw, const char* key, const std::str
     out[i] = float(v);
     norm2 += v * v;
   }
-  require(std::sqrt(norm2) <= bound, what + " has length " + number_text(std::sqrt(norm2), 6) + " " + unit +
-                                         ", more than " + number_text(bound, 6) + " " + unit);
+  require(std::sqrt(norm2) <= bound, what + " has length " + control_text(std::sqrt(norm2)) + " " + unit +
+                                         ", more than " + control_text(bound) + " " + unit);
 }
 
 std::vector<float> parse_jaw(const nlohmann::json& jaw, const std::string& where) {
@@ -95,7 +96,7 @@ Keyframe parse_keyframe(const nlohmann::json& k, size_t index, const std::map<st
   require(k.is_object(), where + ": is not an object");
   Keyframe key;
   key.time = number_field(k, "time", where);
-  require(std::isfinite(key.time), where + ": time is " + number_text(key.time, 6) + " (must be finite)");
+  require(std::isfinite(key.time), where + ": time is " + control_text(key.time) + " (must be finite)");
   require(k.contains("weights") && k["weights"].is_object(),
           where + ": 'weights' is missing or not an object of name: weight");
   key.w.assign(rig_names.size(), 0.0f);
@@ -165,7 +166,7 @@ Performance performance_from_json(const nlohmann::json& j, const std::vector<std
     perf.name = j["name"].get<std::string>();
   }
   perf.fps = number_field(j, "fps", context);
-  require(perf.fps > 0 && perf.fps <= kMaxFps, context + ": fps " + number_text(perf.fps, 6) + " is not in (0, 1000]");
+  require(perf.fps > 0 && perf.fps <= kMaxFps, context + ": fps " + control_text(perf.fps) + " is not in (0, 1000]");
 
   require(j.contains("keyframes") && j["keyframes"].is_array(), context + ": 'keyframes' is missing or not an array");
   const auto& jk = j["keyframes"];
@@ -177,8 +178,8 @@ Performance performance_from_json(const nlohmann::json& j, const std::vector<std
   for (size_t i = 0; i < jk.size(); ++i) {
     keys.push_back(parse_keyframe(jk[i], i, slot, rig_names, context));
     if (i > 0 && !(keys[i].time > keys[i - 1].time))
-      throw Error(context + ": keyframe " + std::to_string(i) + ": time " + number_text(keys[i].time, 6) +
-                  " is not after keyframe " + std::to_string(i - 1) + "'s time " + number_text(keys[i - 1].time, 6) +
+      throw Error(context + ": keyframe " + std::to_string(i) + ": time " + control_text(keys[i].time) +
+                  " is not after keyframe " + std::to_string(i - 1) + "'s time " + control_text(keys[i - 1].time) +
                   " (times must be strictly increasing)");
     if (i > 0 && keys[i].jaw.empty() != keys[0].jaw.empty())
       throw Error(context + ": keyframe " + std::to_string(i) + (keys[i].jaw.empty() ? " has no" : " has a") +
@@ -189,8 +190,8 @@ Performance performance_from_json(const nlohmann::json& j, const std::vector<std
 
   perf.start_time = keys.front().time;
   const double span = (keys.back().time - keys.front().time) * perf.fps;
-  require(span < kMaxFrames, context + ": keyframes span " + number_text(keys.back().time - keys.front().time, 6) +
-                                 " s, more than " + number_text(kMaxFrames, 6) + " frames at " + number_text(perf.fps, 6) +
+  require(span < kMaxFrames, context + ": keyframes span " + control_text(keys.back().time - keys.front().time) +
+                                 " s, more than " + control_text(kMaxFrames) + " frames at " + control_text(perf.fps) +
                                  " fps");
   const int frames = int(std::floor(span + 1e-6)) + 1;
   perf.weights.assign(size_t(frames) * rig_names.size(), 0.0f);
@@ -221,7 +222,7 @@ Performance load_performance_json(const std::string& path, const std::vector<std
 
 nlohmann::json performance_to_json(const Performance& perf) {
   require(perf.fps > 0 && perf.fps <= kMaxFps,
-          "performance '" + perf.name + "': fps " + number_text(perf.fps, 6) + " is not in (0, 1000]");
+          "performance '" + perf.name + "': fps " + control_text(perf.fps) + " is not in (0, 1000]");
   require(!perf.names.empty() && perf.weights.size() % perf.names.size() == 0 && perf.frames() > 0,
           "performance '" + perf.name + "': has " + std::to_string(perf.weights.size()) + " weights for " +
               std::to_string(perf.names.size()) + " shapes (need a whole number of frames, at least 1)");
