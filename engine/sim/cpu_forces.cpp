@@ -29,6 +29,16 @@ void gather_slots(const SimModel& m, const std::vector<double>& slots, std::vect
   }
 }
 
+// Slot buffers reused across calls (one set per calling thread). On the HR
+// mesh they are 20-60 MB, and allocating and zeroing them on every call took
+// about 15 % of an HR frame (perf). Every slot is written before it is read.
+std::vector<double>& slot_scratch(int which, size_t n) {
+  thread_local std::vector<double> buffers[3];
+  std::vector<double>& b = buffers[which];
+  if (b.size() < n) b.resize(n);
+  return b;
+}
+
 // Embedded surface point of vertex v.
 Vec3 surface_point(const SimModel& m, const std::vector<double>& x, int v) {
   Vec3 p = Vec3::Zero();
@@ -104,7 +114,7 @@ double total_energy(const SimModel& m, const FrameInputs& in, const std::vector<
 void energy_gradient(const SimModel& m, const FrameInputs& in, const std::vector<double>& alpha,
                      const std::vector<double>& x, std::vector<double>& g) {
   const fsr_material mat = m.material.to_c();
-  std::vector<double> slots(3 * 4 * size_t(m.num_tets + m.num_surface));
+  std::vector<double>& slots = slot_scratch(0, 3 * 4 * size_t(m.num_tets + m.num_surface));
 #pragma omp parallel for schedule(static)
   for (int t = 0; t < m.num_tets; ++t) {
     double xc[12], F[9], P[9];
@@ -129,7 +139,7 @@ void element_hessian(const SimModel& m, const FrameInputs& in, const std::vector
   const fsr_material mat = m.material.to_c();
   H.C.resize(81 * size_t(m.num_tets));
   H.surf.resize(9 * size_t(m.num_surface));
-  std::vector<double> dslots(9 * 4 * size_t(m.num_tets + m.num_surface));
+  std::vector<double>& dslots = slot_scratch(1, 9 * 4 * size_t(m.num_tets + m.num_surface));
 #pragma omp parallel for schedule(static)
   for (int t = 0; t < m.num_tets; ++t) {
     double xc[12], F[9];
@@ -160,7 +170,7 @@ void element_hessian(const SimModel& m, const FrameInputs& in, const std::vector
 
 void hessian_product(const SimModel& m, const ElementHessian& H, const std::vector<double>& dx,
                      std::vector<double>& y) {
-  std::vector<double> slots(3 * 4 * size_t(m.num_tets + m.num_surface));
+  std::vector<double>& slots = slot_scratch(2, 3 * 4 * size_t(m.num_tets + m.num_surface));
 #pragma omp parallel for schedule(static)
   for (int t = 0; t < m.num_tets; ++t) {
     double xc[12];

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/progress.h"
+#include "sim/assembled_stiffness.h"
 #include "sim/contact.h"
 #include "sim/cpu_forces.h"
 #include "sim/simulator.h"
@@ -75,9 +76,10 @@ class CpuSimulator final : public Simulator {
     const FrameInputs in = prepare_frame(m_, c);
     ElementHessian H;
     element_hessian(m_, in, tet_activations(m_, in), x_, true, H);
+    assemble_stiffness(m_, H, stiffness());
     std::vector<double> p(x_.size(), 1.0), q;
     const auto t0 = std::chrono::steady_clock::now();
-    for (int i = 0; i < reps; ++i) hessian_product(m_, H, p, q);
+    for (int i = 0; i < reps; ++i) stiffness_product(K_, p, q);
     return 1e3 * seconds_since(t0) / reps;
   }
 
@@ -106,7 +108,7 @@ class CpuSimulator final : public Simulator {
     }
     dirichlet_positions(m_, in, x_);
     double e_cur = std::numeric_limits<double>::quiet_NaN();  // energy at x_, once known
-    ElementHessian H;
+    ElementHessian& H = H_;  // kept between frames: dP/dF alone is 130 MB on the ICT HR mesh
     std::vector<double> d(n), xt(n);
     const bool resolve = contacts_ && resolve_;
     planes_.clear();
@@ -161,11 +163,13 @@ class CpuSimulator final : public Simulator {
       bool exact = st.rel_residual < opt_.exact_hessian_below;
       element_hessian(m_, in, alpha, x_, !exact, H);
       contact_hessian_diag(planes_, x_, H.diag);
+      assemble_stiffness(m_, H, stiffness());
       bool negative = false;
       st.cg_iters += pcg(H, g, d, negative);
       if (exact && negative) {
         element_hessian(m_, in, alpha, x_, true, H);
         contact_hessian_diag(planes_, x_, H.diag);
+        assemble_stiffness(m_, H, stiffness());
         st.cg_iters += pcg(H, g, d, negative);
       }
       ++st.newton_iters;
@@ -236,7 +240,7 @@ class CpuSimulator final : public Simulator {
     double rz = dot(r, z);
     int it = 0;
     while (it < opt_.cg_max) {
-      hessian_product(m_, H, p, q);
+      stiffness_product(K_, p, q);
       contact_product(planes_, x_, p, q);
       mask(q);
       const double pq = dot(p, q);
@@ -258,7 +262,16 @@ class CpuSimulator final : public Simulator {
     return it;
   }
 
+  // Built on first use: the pattern takes a moment on an HR mesh and
+  // simulators that only evaluate forces never need it.
+  AssembledStiffness& stiffness() {
+    if (K_.pattern.row_offset.empty()) K_ = make_assembled_stiffness(m_);
+    return K_;
+  }
+
   SimModel m_;
+  AssembledStiffness K_;
+  ElementHessian H_;
   SolverOptions opt_;
   std::shared_ptr<ContactSource> contacts_;
   bool resolve_ = true;
