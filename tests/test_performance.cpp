@@ -309,6 +309,23 @@ TEST(PerformanceBuiltins, InRangeNonConstantAndStartNeutral) {
   const Performance spr = builtin_performance("sparse", std::vector<std::string>(ict.rbegin(), ict.rend()));
   for (int f = 0; f < sp.frames(); f += 5)
     for (const char* n : {"jawOpen", "mouthSmile_L", "browInnerUp_R"}) EXPECT_EQ(w(spr, f, n), w(sp, f, n)) << n;
+
+  // Other takes of the same kind: named for their number, other poses, the
+  // same rules, deterministic.
+  const Performance s2 = builtin_performance("sparse-2", ict), s3 = builtin_performance("sparse-3", ict);
+  EXPECT_EQ(s2.name, "sparse-2");
+  EXPECT_EQ(s2.frames(), sp.frames());
+  EXPECT_FALSE(s2.weights == sp.weights);
+  EXPECT_FALSE(s2.weights == s3.weights);
+  EXPECT_TRUE(builtin_performance("sparse-2", ict).weights == s2.weights);
+  for (int f = 12; f < s2.frames(); f += 12) {
+    int on = 0;
+    for (size_t s = 0; s < ict.size(); ++s) on += s2.frame(f)[s] > 0;
+    EXPECT_GE(on, 2) << "frame " << f;
+    EXPECT_LE(on, 10) << "frame " << f;
+  }
+  for (const char* bad : {"sparse-1", "sparse-0", "sparse-100", "sparse-x", "sparse-"})
+    EXPECT_HAS(error_of([&] { builtin_performance(bad, ict); }), std::string("'") + bad + "'");
 }
 
 TEST(PerformanceBuiltins, MissingShapesAreSkippedAndUnknownNamesListed) {
@@ -321,5 +338,5 @@ TEST(PerformanceBuiltins, MissingShapesAreSkippedAndUnknownNamesListed) {
   EXPECT_FLOAT_EQ(a.frame(30)[1], 1.0f);
   const std::string msg = error_of([] { builtin_performance("frown", kNames); });
   EXPECT_HAS(msg, "'frown'");
-  for (const char* n : {"smile", "jaw", "talk", "random"}) EXPECT_HAS(msg, n);
+  for (const char* n : {"smile", "jaw", "talk", "random", "sparse-2"}) EXPECT_HAS(msg, n);
 }

@@ -167,7 +167,7 @@ void register_simulate(CLI::App& app) {
   sub->add_option("--builtin", a.builtin, "Built-in performance: " + [] {
     std::string s;
     for (const auto& n : builtin_performance_names()) s += (s.empty() ? "" : ", ") + n;
-    return s;
+    return s + " (and sparse-2 ... sparse-99: more takes like sparse)";
   }());
   sub->add_option("--out,-o", a.out, "Output sequence (.fsq): node positions and face surface per frame, cm")
       ->required();

@@ -129,8 +129,9 @@ Performance random(const std::vector<std::string>& names) {
 // ±20 % (so poses are slightly asymmetric), every other shape at 0;
 // cosine-eased between poses, neutral at t = 0. The generator is seeded by a
 // fixed number and draws from a fixed list of base names, so the take is the
-// same on every rig and every run.
-Performance sparse(const std::vector<std::string>& names) {
+// same on every rig and every run. "sparse-K" (K = 2 to 99) is another take
+// of the same kind, from another seed; K = 1 is "sparse" itself.
+Performance sparse_take(const std::vector<std::string>& names, int take) {
   static const char* const kBases[] = {
       "browDown",    "browInnerUp", "browOuterUp", "cheekPuff",   "cheekSquint",  "eyeBlink",    "eyeLookDown",
       "eyeLookIn",   "eyeLookOut",  "eyeLookUp",   "eyeSquint",   "eyeWide",      "jawForward",  "jawLeft",
@@ -140,7 +141,8 @@ Performance sparse(const std::vector<std::string>& names) {
   constexpr size_t kNumBases = sizeof(kBases) / sizeof(kBases[0]);
   constexpr double T = 4.0, step = 0.4;
   constexpr int poses = int(T / step + 0.5) + 1;
-  std::mt19937_64 gen(0x5ba25eull);
+  // Take 1 keeps the original seed, so "sparse" and its datasets stay as they were.
+  std::mt19937_64 gen(take == 1 ? 0x5ba25eull : 0x5ba25eull ^ (uint64_t(take) * 0x9e3779b97f4a7c15ull));
   const auto uniform = [&gen] { return double(gen() >> 11) * 0x1.0p-53; };  // see random()
   std::vector<std::vector<double>> c(names.size(), std::vector<double>(poses, 0.0));
   for (int k = 1; k < poses; ++k) {
@@ -161,7 +163,22 @@ Performance sparse(const std::vector<std::string>& names) {
   std::vector<std::pair<std::vector<size_t>, Curve>> curves;
   for (size_t s = 0; s < names.size(); ++s)
     curves.emplace_back(std::vector<size_t>{s}, eased_controls(c[s], step));
-  return sample("sparse", T, names, curves);
+  return sample(take == 1 ? "sparse" : "sparse-" + std::to_string(take), T, names, curves);
+}
+
+Performance sparse(const std::vector<std::string>& names) { return sparse_take(names, 1); }
+
+// The K of "sparse-K", or 0 when the name is not of that form.
+int sparse_take_number(const std::string& name) {
+  const std::string prefix = "sparse-";
+  if (name.size() <= prefix.size() || name.size() > prefix.size() + 2 || name.compare(0, prefix.size(), prefix) != 0)
+    return 0;
+  int k = 0;
+  for (size_t i = prefix.size(); i < name.size(); ++i) {
+    if (name[i] < '0' || name[i] > '9') return 0;
+    k = 10 * k + (name[i] - '0');
+  }
+  return k >= 2 ? k : 0;
 }
 
 const std::vector<std::pair<std::string, Performance (*)(const std::vector<std::string>&)>>& table() {
@@ -189,9 +206,10 @@ std::vector<std::string> builtin_performance_names() {
 Performance builtin_performance(const std::string& name, const std::vector<std::string>& rig_names) {
   for (const auto& e : table())
     if (e.first == name) return e.second(rig_names);
+  if (const int take = sparse_take_number(name)) return sparse_take(rig_names, take);
   std::string valid;
   for (const auto& n : builtin_performance_names()) valid += (valid.empty() ? "" : ", ") + n;
-  throw Error("unknown built-in performance '" + name + "' (valid: " + valid + ")");
+  throw Error("unknown built-in performance '" + name + "' (valid: " + valid + ", sparse-2 ... sparse-99)");
 }
 
 }  // namespace facesr

@@ -87,8 +87,10 @@ void save_performance_json(const Performance& perf, const std::string& path);
 Performance load_performance(const std::string& path, const std::vector<std::string>& rig_names,
                              LiveLinkReport* csv_report = nullptr);
 
-// Built-in performances at 30 fps: "smile", "jaw", "talk", "random" (see
-// builtin_performance.cpp) and the FACS-based emotions "amazement", "anger",
+// Built-in performances at 30 fps: "smile", "jaw", "talk", "random",
+// "sparse" and its other takes "sparse-2" ... "sparse-99" (see
+// builtin_performance.cpp; the takes are not listed by
+// builtin_performance_names) and the FACS-based emotions "amazement", "anger",
 // "fear", "pain" (themed_performance.cpp, docs/performances.md). Shapes the
 // rig lacks are skipped; an unknown name is an Error listing the valid ones.
 Performance builtin_performance(const std::string& name, const std::vector<std::string>& rig_names);
