@@ -5,9 +5,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include <nlohmann/json.hpp>
 
+#include "bench/bench_report.h"
 #include "dataset/dataset_io.h"
 #include "dataset/dataset_manifest.h"
 #include "dataset/dataset_metrics.h"
@@ -112,7 +114,8 @@ TEST_F(DatasetGenerate, AnotherRigsManifestIsRejected) {
 }
 
 TEST_F(DatasetGenerate, CliJsonKeysAndErrors) {
-  auto r = run("dataset --rig " + q("p.rig") + " --out " + q("cli") + " --builtin fear --frames 4 --json -q");
+  auto r = run("dataset --rig " + q("p.rig") + " --out " + q("cli") + " --builtin fear --frames 4 --json -q --markdown " +
+               q("bench.md"));
   ASSERT_EQ(r.status, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   for (const char* key : {"frames", "sequences", "hr_mean_step_s", "lr_mean_step_ms", "hr_over_lr_time",
@@ -120,6 +123,14 @@ TEST_F(DatasetGenerate, CliJsonKeysAndErrors) {
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["frames"], 4);
   EXPECT_EQ(j["units"], "cm");
+  {
+    // One section per rig and machine, holding the per-sequence table.
+    std::ifstream md(path("bench.md"));
+    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    const std::string tag = "<!-- dataset-" + fixtures::procedural_rig().name + "-" + machine_slug() + ":start -->";
+    EXPECT_NE(text.find(tag), std::string::npos) << text;
+    EXPECT_NE(text.find("| fear | test | 4 |"), std::string::npos) << text;
+  }
 
   r = run("dataset --rig " + q("p.rig") + " --out " + q("bad1") + " --builtin nosuch -q");
   EXPECT_NE(r.status, 0);

@@ -94,8 +94,11 @@ void register_dataset(CLI::App& app) {
     j["out"] = a.out;
     j["machine"] = machine_description();
     j["date"] = today_iso();
-    if (!a.markdown.empty())
-      update_markdown_section(a.markdown, "dataset-" + rig.name, dataset_markdown(j, load_manifest(a.out + "/manifest.json")));
+    if (!a.markdown.empty()) {
+      // Timings are per machine: one section per rig and CPU, as for the benchmarks.
+      update_markdown_section(a.markdown, "dataset-" + rig.name + "-" + machine_slug(),
+                              dataset_markdown(j, load_manifest(a.out + "/manifest.json")));
+    }
     if (a.json) {
       std::printf("%s\n", j.dump(2).c_str());
     } else {
