@@ -291,6 +291,9 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
     for (auto& group : optim.param_groups()) static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr_now);
     double loss_sum = 0, l1_sum = 0;
     int batches = 0;
+    // A large dataset's epoch can take minutes on a CPU: report within it too.
+    const int64_t batches_planned = (F + opt.batch_size - 1) / opt.batch_size;
+    auto last_report = t0;
     for (int64_t b = 0; b < F; b += opt.batch_size) {
       const int64_t n = std::min<int64_t>(opt.batch_size, F - b);
       const auto idx = torch::from_blob(order.data() + b, {n}, torch::kLong).clone();
@@ -307,6 +310,14 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
       loss_sum += loss.item<double>();
       l1_sum += l1;
       ++batches;
+      if (opt.progress && seconds_since(last_report) >= 60 && batches < batches_planned) {
+        last_report = std::chrono::steady_clock::now();
+        const double el = seconds_since(t0);
+        std::fprintf(stderr, "[train %s] epoch %d/%d: batch %d/%lld (%.0f%%), L1 %.4f cm/vertex so far, epoch ETA %.0fs\n",
+                     arch.kind.c_str(), epoch + 1, opt.epochs, batches, (long long)batches_planned,
+                     100.0 * batches / batches_planned, l1_sum / batches,
+                     el * double(batches_planned - batches) / batches);
+      }
     }
     const double train_loss = loss_sum / batches, train_l1 = l1_sum / batches;
     json rec = {{"epoch", epoch + 1}, {"loss", train_loss}, {"l1_cm", train_l1}, {"beta", beta}, {"lr", lr_now}};
