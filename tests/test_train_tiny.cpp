@@ -271,5 +271,28 @@ TEST_F(TrainTiny, EvalComparesEveryMethodAndWritesItsOutputs) {
   EXPECT_FALSE(fs::exists(path("eval3/report.json")));
 }
 
+TEST_F(TrainTiny, EvalNeedsTrainingFramesOnlyForTheFittedBaselines) {
+  // A dataset holding only its test split (e.g. while the training
+  // sequences are still being simulated).
+  fs::copy(path("data"), path("testonly"), fs::copy_options::recursive);
+  nlohmann::json m = nlohmann::json::parse(std::ifstream(path("testonly/manifest.json")));
+  nlohmann::json kept = nlohmann::json::array();
+  for (const auto& s : m["sequences"])
+    if (s["split"] == "test") kept.push_back(s);
+  ASSERT_LT(kept.size(), m["sequences"].size());
+  m["sequences"] = kept;
+  std::ofstream(path("testonly/manifest.json")) << m.dump(2);
+
+  auto r = run("eval --rig " + q("p.rig") + " --dataset " + q("testonly") +
+               " --methods embedded --pictures 0 -o " + q("evt") + " --json -q");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["test_frames"], 12);
+  r = run("eval --rig " + q("p.rig") + " --dataset " + q("testonly") + " --methods embedded,rbf -o " +
+          q("evt2") + " -q");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("no training frames"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("evt2/report.json")));
+}
+
 }  // namespace
 }  // namespace facesr

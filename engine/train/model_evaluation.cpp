@@ -52,7 +52,9 @@ json evaluate_models(const Rig& rig, const ModelEvaluationOptions& opt, std::str
             "eval: unknown method '" + m + "' (expected ours, embedded, rbf, mls, vae)");
   require(!opt.out_dir.empty(), "eval: no output folder");
   const uint64_t checksum = rig_checksum(rig);
-  const DatasetSplit data = load_dataset_split(opt.dataset_dir, checksum, 0);
+  // Only the RBF and MLS baselines fit their widths on training frames.
+  const bool fits = wanted(opt, "rbf") || wanted(opt, "mls");
+  const DatasetSplit data = load_dataset_split(opt.dataset_dir, checksum, 0, fits);
   require(data.test.size() > 0, opt.dataset_dir + ": no test frames (no sequence has split \"test\")");
 
   // Load every model before computing anything, so a wrong file fails fast.

@@ -30,7 +30,8 @@ struct Builder {
 
 }  // namespace
 
-DatasetSplit load_dataset_split(const std::string& dir, uint64_t rig_checksum, int validation_every) {
+DatasetSplit load_dataset_split(const std::string& dir, uint64_t rig_checksum, int validation_every,
+                                bool require_train) {
   const DatasetManifest m = load_manifest(dir + "/manifest.json");
   require(m.rig_checksum == rig_checksum, dir + ": the dataset was made from rig '" + m.rig_name + "' (checksum " +
                                               hex64(m.rig_checksum) + "), not from this rig (checksum " +
@@ -47,11 +48,11 @@ DatasetSplit load_dataset_split(const std::string& dir, uint64_t rig_checksum, i
       b.add(s.frame(f), e.name, f);
     }
   }
-  require(!train.set.frame.empty(), dir + ": no training frames (no sequence has split \"train\")");
+  require(!require_train || !train.set.frame.empty(), dir + ": no training frames (no sequence has split \"train\")");
   DatasetSplit out;
   out.num_lr = m.num_lr_nodes;
   out.num_hr = m.num_surface;
-  out.train = train.finish(m.num_lr_nodes, m.num_surface);
+  if (!train.set.frame.empty()) out.train = train.finish(m.num_lr_nodes, m.num_surface);
   if (!val.set.frame.empty()) out.validation = val.finish(m.num_lr_nodes, m.num_surface);
   if (!test.set.frame.empty()) out.test = test.finish(m.num_lr_nodes, m.num_surface);
   return out;

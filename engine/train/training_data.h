@@ -27,7 +27,9 @@ struct DatasetSplit {
 // training frame (0: none) goes to the validation set, used for early
 // stopping and for choosing the exported weights; the test split is never
 // used in training. Error if the dataset was made from another rig, has no
-// training frames, or any sequence is incomplete or damaged.
-DatasetSplit load_dataset_split(const std::string& dir, uint64_t rig_checksum, int validation_every);
+// training frames (when require_train), or any sequence is incomplete or
+// damaged.
+DatasetSplit load_dataset_split(const std::string& dir, uint64_t rig_checksum, int validation_every,
+                                bool require_train = true);
 
 }  // namespace facesr
