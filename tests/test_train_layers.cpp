@@ -244,6 +244,34 @@ TEST(TrainLayers, LossTermsOnHandMadeCases) {
   EXPECT_NEAR(beta_schedule(5, 11, 1e-3, 20), std::sqrt(1e-3 * 20), 1e-9);
 }
 
+TEST(TrainLayers, RelativeFrameWeightsFollowTheCorrectionSize) {
+  // Two frames of two vertices: frame 0's HR target is 3 cm from the
+  // embedded surface at each vertex (mean 3), frame 1's 0.5 cm at one
+  // vertex (mean 0.25).
+  auto hr = torch::zeros({2, 2, 3}), emb = torch::zeros({2, 2, 3});
+  hr[0][0][0] = 3.0f;
+  hr[0][1][1] = 3.0f;
+  hr[1][0][2] = 0.5f;
+  const double floor_cm = 0.25;
+  const auto w = relative_frame_weights(hr, emb, floor_cm);
+  ASSERT_EQ(w.size(0), 2);
+  // ∝ 1/3.25 and 1/0.5, mean 1.
+  const double a = 1 / 3.25, b = 1 / 0.5, m = (a + b) / 2;
+  EXPECT_NEAR(w[0].item<double>(), a / m, 1e-6);
+  EXPECT_NEAR(w[1].item<double>(), b / m, 1e-6);
+
+  // In the loss they scale each frame's L1 term; unit weights give the paper's loss.
+  const auto rest = torch::tensor({0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f}).view({2, 3});
+  const auto no_tris = torch::zeros({0, 3}, torch::kLong);
+  const auto pred = torch::zeros({2, 2, 3});
+  const auto plain = sr_loss(pred, hr, rest, no_tris, {}, 0, 0);
+  const auto ones = sr_loss(pred, hr, rest, no_tris, {}, 0, 0, torch::ones({2}));
+  EXPECT_NEAR(plain.recon.item<double>(), (6.0 + 0.5) / 2, 1e-6);
+  EXPECT_NEAR(ones.recon.item<double>(), plain.recon.item<double>(), 1e-6);
+  const auto weighted = sr_loss(pred, hr, rest, no_tris, {}, 0, 0, w);
+  EXPECT_NEAR(weighted.recon.item<double>(), (6.0 * a / m + 0.5 * b / m) / 2, 1e-5);
+}
+
 TEST(TrainSchedule, CosineLearningRateRunsFromStartToFinalAndIsConstantWhenUnset) {
   EXPECT_DOUBLE_EQ(learning_rate_schedule(0, 11, 1e-3, 1e-5), 1e-3);
   EXPECT_DOUBLE_EQ(learning_rate_schedule(10, 11, 1e-3, 1e-5), 1e-5);

@@ -3,6 +3,7 @@
 // round-trips and refuses the wrong rig or a damaged file, and the CLI.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -214,6 +215,15 @@ TEST_F(TrainTiny, ModelFileErrorsNameTheProblem) {
   EXPECT_FALSE(fs::exists(path("bad.fsm")));
 }
 
+TEST_F(TrainTiny, RelativeFrameWeightingTrainsAndIsRecorded) {
+  TrainOptions o = options("rel.fsm", 8);
+  o.relative_floor_cm = 0.01;
+  const TrainSummary s = train_model(fixtures::procedural_rig(), arch(), o);
+  EXPECT_TRUE(s.finished);
+  EXPECT_LT(s.final_l1_cm, 0.7 * s.first_l1_cm) << "first " << s.first_l1_cm << " final " << s.final_l1_cm;
+  EXPECT_EQ(load_sr_model(path("rel.fsm")).training["options"].value("relative_floor_cm", 0.0), 0.01);
+}
+
 TEST_F(TrainTiny, CliTrainsAndRejectsBadInput) {
   auto r = run("train --rig " + q("p.rig") + " --dataset " + q("data") + " -o " + q("cli.fsm") +
                " --epochs 2 --encoder-dims 8,8 --recon-hidden 16 --weight-hidden 8 --pe-dim 8 --json -q");
@@ -223,6 +233,13 @@ TEST_F(TrainTiny, CliTrainsAndRejectsBadInput) {
                         "parameters", "device", "units"})
     EXPECT_TRUE(j.contains(k)) << k;
   EXPECT_EQ(j["epochs"], 2);
+  // The relative frame weighting is refused for the β-VAE and below 0.
+  r = run("train --rig " + q("p.rig") + " --dataset " + q("data") + " -o " + q("x.fsm") + " --kind vae --relative-floor 0.01 -q");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("--relative-floor"), std::string::npos) << r.err;
+  r = run("train --rig " + q("p.rig") + " --dataset " + q("data") + " -o " + q("x.fsm") + " --relative-floor -1 -q");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("--relative-floor"), std::string::npos) << r.err;
   r = run("train --rig " + q("p.rig") + " --dataset " + q("nowhere") + " -o " + q("x.fsm") + " -q");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("nowhere"), std::string::npos) << r.err;

@@ -38,6 +38,9 @@ void register_train(CLI::App& app) {
   sub->add_option("--beta-start", a.o.beta_start, "Feature-norm loss weight at the first epoch (default 0.001)");
   sub->add_option("--beta-end", a.o.beta_end, "Feature-norm loss weight at the last epoch (default 20)");
   sub->add_option("--vae-beta", a.o.vae_beta, "β-VAE KL weight (default 0.01)");
+  sub->add_option("--relative-floor", a.o.relative_floor_cm,
+                  "Not in the paper: weight each frame's L1 term by 1/(its LR-embedded error + this, cm), mean 1, "
+                  "so that frames near rest count relative to their size (default 0: unweighted)");
   sub->add_option("--checkpoint-every", a.o.checkpoint_every, "Epochs between checkpoints (default 10)");
   sub->add_option("--checkpoints", a.checkpoints, "Checkpoint folder (default <out>.ckpt)");
   sub->add_option("--validation-every", a.o.validation_every,

@@ -20,8 +20,20 @@ struct LossTerms {
 
 // pred, target: B × M × 3 displacements (cm); rest: M × 3 rest surface;
 // tris: F × 3 long; features: the encoder's submodule outputs (may be empty).
+// frame_weights (optional, B): multiplies each frame's L1 term (see
+// relative_frame_weights); undefined means 1 for every frame, the paper's loss.
 LossTerms sr_loss(const torch::Tensor& pred, const torch::Tensor& target, const torch::Tensor& rest,
-                  const torch::Tensor& tris, const std::vector<torch::Tensor>& features, double alpha, double beta);
+                  const torch::Tensor& tris, const std::vector<torch::Tensor>& features, double alpha, double beta,
+                  const torch::Tensor& frame_weights = {});
+
+// Not in the paper. Per-frame weights w_f ∝ 1 / (e_f + floor_cm), where e_f
+// is frame f's mean per-vertex Euclidean distance between the HR target and
+// the LR-embedded surface (the size of the correction to learn), normalised
+// to mean 1 over the frames. The paper's L1 sum lets a frame count in
+// proportion to its correction, so frames near rest (corrections of 1e-4 cm)
+// barely train the network's response to small inputs; these weights make
+// the loss closer to a relative error. hr, embedded: F × M × 3; returns F.
+torch::Tensor relative_frame_weights(const torch::Tensor& hr, const torch::Tensor& embedded, double floor_cm);
 
 // Unnormalised triangle normals (v1 − v0) × (v2 − v0) of B × M × 3 positions: B × F × 3.
 torch::Tensor triangle_normals(const torch::Tensor& positions, const torch::Tensor& tris);

@@ -62,12 +62,14 @@ struct Net {
   // The loss to minimise, and (in `l1_cm`) the mean L1 error per HR vertex
   // of the batch, which stays comparable while β changes the total.
   torch::Tensor loss(const torch::Tensor& lr, const torch::Tensor& hr, const TrainOptions& o, double beta,
-                     double& l1_cm) {
+                     double& l1_cm, const torch::Tensor& frame_weights = {}) {
     const double BM = double(hr.size(0) * hr.size(1));
     if (sr) {
       auto out = sr->forward(lr);
-      const LossTerms t = sr_loss(out.hr_disp, hr, rest, tris, out.features, o.alpha, beta);
-      l1_cm = t.recon.item<double>() * double(hr.size(0)) / BM;
+      const LossTerms t = sr_loss(out.hr_disp, hr, rest, tris, out.features, o.alpha, beta, frame_weights);
+      // The unweighted L1, so that progress stays comparable between runs.
+      l1_cm = frame_weights.defined() ? (out.hr_disp - hr).abs().sum().item<double>() / BM
+                                      : t.recon.item<double>() * double(hr.size(0)) / BM;
       return t.total;
     }
     auto out = vae->forward(lr, true);
@@ -105,6 +107,7 @@ json config_fingerprint(const SrArchitecture& a, const TrainOptions& o) {
             {"dataset", fs::weakly_canonical(o.dataset_dir).string()}};
   // Only when set, so that checkpoints from before these options still resume.
   if (o.learning_rate_final > 0) j["learning_rate_final"] = o.learning_rate_final;
+  if (o.relative_floor_cm > 0) j["relative_floor_cm"] = o.relative_floor_cm;
   if (!o.init_from.empty()) j["init_from"] = fs::weakly_canonical(o.init_from).string();
   return j;
 }
@@ -146,6 +149,8 @@ void validate(const TrainOptions& o) {
   require(o.validation_every >= 0 && o.validation_every != 1,
           "train: --validation-every must be 0 (none) or at least 2");
   require(o.patience >= 0, "train: --patience must be >= 0");
+  require(o.relative_floor_cm >= 0 && std::isfinite(o.relative_floor_cm),
+          "train: --relative-floor must be >= 0 cm (0: the paper's unweighted loss)");
   require(!o.out_path.empty(), "train: no output model path");
 }
 
@@ -273,6 +278,11 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
   };
 
   const int64_t F = data.train.size();
+  torch::Tensor frame_weights;  // F, on the CPU; undefined: the paper's loss
+  if (opt.relative_floor_cm > 0) {
+    require(arch.kind == "sr", "train: --relative-floor applies to the network, not the β-VAE");
+    frame_weights = relative_frame_weights(data.train.hr, data.train.embedded, opt.relative_floor_cm);
+  }
   Progress progress("train " + arch.kind, opt.epochs, opt.progress, start_epoch);
   double epoch_time_total = 0;
   int epochs_run = 0, since_best = 0;
@@ -301,7 +311,8 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
       const auto hr = data.train.hr.index_select(0, idx).to(dev);
       optim.zero_grad();
       double l1 = 0;
-      auto loss = net.loss(lr, hr, opt, beta, l1);
+      const torch::Tensor w = frame_weights.defined() ? frame_weights.index_select(0, idx).to(dev) : torch::Tensor();
+      auto loss = net.loss(lr, hr, opt, beta, l1, w);
       require(std::isfinite(loss.item<double>()),
               "train: the loss became non-finite at epoch " + std::to_string(epoch + 1) +
                   " (try a lower --lr); the last checkpoint is kept");

@@ -28,6 +28,9 @@ struct TrainOptions {
   double alpha = 1e-3;          // face-normal loss weight (table 3)
   double beta_start = 1e-3, beta_end = 20;  // feature-norm weight ramp (table 3)
   double vae_beta = 0.01;       // KL weight of the β-VAE (A.4)
+  // > 0 (not in the paper, network only): weight each training frame's L1
+  // term by relative_frame_weights(…, relative_floor_cm) (train/sr_loss.h).
+  double relative_floor_cm = 0;
   int checkpoint_every = 10;    // epochs
   int validation_every = 10;    // hold out every n-th training frame (0: none)
   int patience = 0;             // > 0: stop after this many epochs without a better validation error
