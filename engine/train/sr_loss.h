@@ -29,10 +29,12 @@ LossTerms sr_loss(const torch::Tensor& pred, const torch::Tensor& target, const 
 // Not in the paper. Per-frame weights w_f ∝ 1 / (e_f + floor_cm), where e_f
 // is frame f's mean per-vertex Euclidean distance between the HR target and
 // the LR-embedded surface (the size of the correction to learn), normalised
-// to mean 1 over the frames. The paper's L1 sum lets a frame count in
-// proportion to its correction, so frames near rest (corrections of 1e-4 cm)
-// barely train the network's response to small inputs; these weights make
-// the loss closer to a relative error. hr, embedded: F × M × 3; returns F.
+// to mean 1 over the frames. Under the paper's L1 sum every vertex of every
+// frame pulls with a unit-size gradient, so frames near rest (corrections of
+// 1e-4 cm, a few per sequence) are outvoted by the many large frames and the
+// network's response to small inputs stays poor; these weights give them a
+// larger share, moving the loss toward a relative error.
+// hr, embedded: F × M × 3; returns F.
 torch::Tensor relative_frame_weights(const torch::Tensor& hr, const torch::Tensor& embedded, double floor_cm);
 
 // Unnormalised triangle normals (v1 − v0) × (v2 − v0) of B × M × 3 positions: B × F × 3.
