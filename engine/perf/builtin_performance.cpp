@@ -132,75 +132,70 @@ const char* const kSparseBases[] = {
     "mouthShrugLower", "mouthShrugUpper", "mouthSmile", "mouthStretch", "mouthUpperUp", "noseSneer"};
 constexpr size_t kNumSparseBases = sizeof(kSparseBases) / sizeof(kSparseBases[0]);
 
+double uniform01(std::mt19937_64& gen) { return double(gen() >> 11) * 0x1.0p-53; }  // see random()
+
+// Control k of a pose take: min_count + (0 … count_choices - 1) distinct
+// bases from kSparseBases, each at lo + span · U[0, 1), both halves of a paired
+// shape with their own ±20 % (so poses are slightly asymmetric), at most 1.
+void draw_pose(std::mt19937_64& gen, const std::vector<std::string>& names, int min_count, int count_choices,
+               double lo, double span, int k, std::vector<std::vector<double>>& c) {
+  const int count = min_count + int(gen() % uint64_t(count_choices));
+  std::vector<size_t> chosen;
+  while (int(chosen.size()) < count) {
+    const size_t b = size_t(gen() % kNumSparseBases);
+    if (std::find(chosen.begin(), chosen.end(), b) == chosen.end()) chosen.push_back(b);
+  }
+  for (size_t b : chosen) {
+    const double w = lo + span * uniform01(gen);
+    // Halves by name, so that each gets the same draw whatever the rig's order.
+    std::vector<size_t> halves = shapes_for(kSparseBases[b], names);
+    std::sort(halves.begin(), halves.end(), [&](size_t x, size_t y) { return names[x] < names[y]; });
+    for (size_t shape : halves) c[shape][k] = std::min(1.0, w * (0.8 + 0.4 * uniform01(gen)));
+  }
+}
+
+// Every shape cosine-eased through its controls c[shape], `step` s apart.
+Performance eased_take(const std::string& name, double T, double step, const std::vector<std::string>& names,
+                       const std::vector<std::vector<double>>& c) {
+  std::vector<std::pair<std::vector<size_t>, Curve>> curves;
+  for (size_t s = 0; s < names.size(); ++s)
+    curves.emplace_back(std::vector<size_t>{s}, eased_controls(c[s], step));
+  return sample(name, T, names, curves);
+}
+
 // Poses of a few shapes at a time, closer to real expressions than "random"
 // (where all 53 move at once): every 0.4 s a new pose activates 2 to 5 ARKit
-// base shapes at 0.3 to 1, both halves of a paired shape with their own
-// ±20 % (so poses are slightly asymmetric), every other shape at 0;
-// cosine-eased between poses, neutral at t = 0. The generator is seeded by a
-// fixed number and draws from a fixed list of base names, so the take is the
-// same on every rig and every run. "sparse-K" (K = 2 to 99) is another take
-// of the same kind, from another seed; K = 1 is "sparse" itself.
+// base shapes at 0.3 to 1 (draw_pose), every other shape at 0; cosine-eased
+// between poses, neutral at t = 0. The generator is seeded by a fixed number
+// and draws from a fixed list of base names, so the take is the same on every
+// rig and every run. "sparse-K" (K = 2 to 99) is another take of the same
+// kind, from another seed; K = 1 is "sparse" itself.
 Performance sparse_take(const std::vector<std::string>& names, int take) {
   constexpr double T = 4.0, step = 0.4;
   constexpr int poses = int(T / step + 0.5) + 1;
   // Take 1 keeps the original seed, so "sparse" and its datasets stay as they were.
   std::mt19937_64 gen(take == 1 ? 0x5ba25eull : 0x5ba25eull ^ (uint64_t(take) * 0x9e3779b97f4a7c15ull));
-  const auto uniform = [&gen] { return double(gen() >> 11) * 0x1.0p-53; };  // see random()
   std::vector<std::vector<double>> c(names.size(), std::vector<double>(poses, 0.0));
-  for (int k = 1; k < poses; ++k) {
-    const int count = 2 + int(gen() % 4);
-    std::vector<size_t> chosen;
-    while (int(chosen.size()) < count) {
-      const size_t b = size_t(gen() % kNumSparseBases);
-      if (std::find(chosen.begin(), chosen.end(), b) == chosen.end()) chosen.push_back(b);
-    }
-    for (size_t b : chosen) {
-      const double w = 0.3 + 0.7 * uniform();
-      // Halves by name, so that each gets the same draw whatever the rig's order.
-      std::vector<size_t> halves = shapes_for(kSparseBases[b], names);
-      std::sort(halves.begin(), halves.end(), [&](size_t x, size_t y) { return names[x] < names[y]; });
-      for (size_t shape : halves) c[shape][k] = std::min(1.0, w * (0.8 + 0.4 * uniform()));
-    }
-  }
-  std::vector<std::pair<std::vector<size_t>, Curve>> curves;
-  for (size_t s = 0; s < names.size(); ++s)
-    curves.emplace_back(std::vector<size_t>{s}, eased_controls(c[s], step));
-  return sample(take == 1 ? "sparse" : "sparse-" + std::to_string(take), T, names, curves);
+  for (int k = 1; k < poses; ++k) draw_pose(gen, names, 2, 4, 0.3, 0.7, k, c);
+  return eased_take(take == 1 ? "sparse" : "sparse-" + std::to_string(take), T, step, names, c);
 }
 
 Performance sparse(const std::vector<std::string>& names) { return sparse_take(names, 1); }
 
 // Small expressions that relax to neutral: every 0.3 s the face alternates
-// between a pose of 1 to 3 ARKit base shapes at 0.02 to 0.3 (halves ±20 %,
-// as in "sparse") and neutral, cosine-eased, over 6 s. Half of its frames are
-// the slow tails near rest. Those are where a network trained on full
-// expressions is weakest: its error there is tiny in centimetres but can
-// exceed the LR-embedded surface's, and few training frames come that close
-// to rest. Fixed seed and base list, so the same on every rig and every run.
+// between a pose of 1 to 3 ARKit base shapes at 0.02 to 0.3 (draw_pose) and
+// neutral, cosine-eased, over 6 s. Half of its frames are the slow tails near
+// rest. Those are where a network trained on full expressions is weakest: its
+// error there is tiny in centimetres but can exceed the LR-embedded surface's,
+// and few training frames come that close to rest. Fixed seed and base list,
+// so the same on every rig and every run.
 Performance subtle(const std::vector<std::string>& names) {
   constexpr double T = 6.0, step = 0.3;
   constexpr int controls = int(T / step + 0.5) + 1;
   std::mt19937_64 gen(0x5b7e1eull);
-  const auto uniform = [&gen] { return double(gen() >> 11) * 0x1.0p-53; };  // see random()
   std::vector<std::vector<double>> c(names.size(), std::vector<double>(controls, 0.0));
-  for (int k = 1; k < controls; k += 2) {  // even controls stay neutral
-    const int count = 1 + int(gen() % 3);
-    std::vector<size_t> chosen;
-    while (int(chosen.size()) < count) {
-      const size_t b = size_t(gen() % kNumSparseBases);
-      if (std::find(chosen.begin(), chosen.end(), b) == chosen.end()) chosen.push_back(b);
-    }
-    for (size_t b : chosen) {
-      const double w = 0.02 + 0.28 * uniform();
-      std::vector<size_t> halves = shapes_for(kSparseBases[b], names);
-      std::sort(halves.begin(), halves.end(), [&](size_t x, size_t y) { return names[x] < names[y]; });
-      for (size_t shape : halves) c[shape][k] = w * (0.8 + 0.4 * uniform());
-    }
-  }
-  std::vector<std::pair<std::vector<size_t>, Curve>> curves;
-  for (size_t s = 0; s < names.size(); ++s)
-    curves.emplace_back(std::vector<size_t>{s}, eased_controls(c[s], step));
-  return sample("subtle", T, names, curves);
+  for (int k = 1; k < controls; k += 2) draw_pose(gen, names, 1, 3, 0.02, 0.28, k, c);  // even k stay neutral
+  return eased_take("subtle", T, step, names, c);
 }
 
 // The K of "sparse-K", or 0 when the name is not of that form.
