@@ -102,6 +102,11 @@ Performance talk(const std::vector<std::string>& names) {
        {"browInnerUp", [=](double t) { return env(t) * 0.7 * pos2(w * 0.5 * t + 1.0); }}});
 }
 
+// Uniform in [0, 1) from the generator's raw bits, because
+// std::uniform_real_distribution differs between standard libraries and the
+// built-in takes must be the same everywhere.
+double uniform01(std::mt19937_64& gen) { return double(gen() >> 11) * 0x1.0p-53; }
+
 // Every shape follows its own random curve through control values every
 // 0.5 s (cosine-eased, so velocities are continuous and vanish at controls).
 // The generator is seeded by a fixed number and the shape's name, so a shape
@@ -113,11 +118,8 @@ Performance random(const std::vector<std::string>& names) {
   for (size_t s = 0; s < names.size(); ++s) {
     const std::string& n = names[s];
     std::mt19937_64 gen(0x5eed5eedull ^ fnv1a64(n.data(), n.size()));
-    // c[0] = 0 starts neutral; the others are uniform in [0, 1), built from
-    // the raw bits because std::uniform_real_distribution differs between
-    // standard libraries.
-    std::vector<double> c(controls, 0.0);
-    for (int i = 1; i < controls; ++i) c[i] = double(gen() >> 11) * 0x1.0p-53;
+    std::vector<double> c(controls, 0.0);  // c[0] = 0 starts neutral
+    for (int i = 1; i < controls; ++i) c[i] = uniform01(gen);
     curves.emplace_back(std::vector<size_t>{s}, eased_controls(c, step));
   }
   return sample("random", T, names, curves);
@@ -132,7 +134,6 @@ const char* const kSparseBases[] = {
     "mouthShrugLower", "mouthShrugUpper", "mouthSmile", "mouthStretch", "mouthUpperUp", "noseSneer"};
 constexpr size_t kNumSparseBases = sizeof(kSparseBases) / sizeof(kSparseBases[0]);
 
-double uniform01(std::mt19937_64& gen) { return double(gen() >> 11) * 0x1.0p-53; }  // see random()
 
 // Control k of a pose take: min_count + (0 … count_choices - 1) distinct
 // bases from kSparseBases, each at lo + span · U[0, 1), both halves of a paired
