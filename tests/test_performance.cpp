@@ -256,8 +256,9 @@ TEST(PerformanceBuiltins, InRangeNonConstantAndStartNeutral) {
     for (float v : p.weights) ASSERT_TRUE(v >= 0 && v <= 1) << b << ": weight " << v;
     for (size_t s = 0; s < names.size(); ++s) EXPECT_EQ(p.frame(0)[s], 0.0f) << b << " " << names[s];
     const std::vector<float> mx = max_weights(p);
-    // "subtle" is small on purpose (poses up to 0.36).
-    EXPECT_GT(*std::max_element(mx.begin(), mx.end()), b == "subtle" ? 0.05f : 0.3f) << b << " does not move";
+    // "subtle" and "nudge" are small on purpose (poses up to 0.36 and 0.08).
+    const bool small = b == "subtle" || b == "nudge";
+    EXPECT_GT(*std::max_element(mx.begin(), mx.end()), small ? 0.05f : 0.3f) << b << " does not move";
   }
   const Performance smile = builtin_performance("smile", names);
   EXPECT_EQ(smile.frames(), 61);
@@ -353,6 +354,21 @@ TEST(PerformanceBuiltins, InRangeNonConstantAndStartNeutral) {
   const Performance sur = builtin_performance("subtle", std::vector<std::string>(ict.rbegin(), ict.rend()));
   for (int f = 0; f < su.frames(); f += 3)
     for (size_t s = 0; s < ict.size(); s += 5) EXPECT_EQ(w(sur, f, ict[s]), w(su, f, ict[s]));
+}
+
+TEST(PerformanceBuiltins, NudgeMovesEachShapeAloneAtThreeSmallWeights) {
+  const std::vector<std::string> names = procedural_names();
+  const Performance p = builtin_performance("nudge", names);
+  ASSERT_EQ(p.frames(), int(1 + 3 * names.size()));
+  for (size_t s = 0; s < names.size(); ++s) EXPECT_EQ(p.frame(0)[s], 0.0f);
+  for (size_t s = 0; s < names.size(); ++s) {
+    const float expected[3] = {0.005f, 0.02f, 0.08f};
+    for (int k = 0; k < 3; ++k) {
+      const float* x = p.frame(int(1 + 3 * s + k));
+      for (size_t o = 0; o < names.size(); ++o)
+        EXPECT_EQ(x[o], o == s ? expected[k] : 0.0f) << "frame " << 1 + 3 * s + k << " shape " << names[o];
+    }
+  }
 }
 
 TEST(PerformanceBuiltins, MissingShapesAreSkippedAndUnknownNamesListed) {
