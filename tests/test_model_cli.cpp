@@ -1,4 +1,4 @@
-// `facesr model info`, `zero-rest` and `rebind` through the real binary: a
+// `facesr model info`, `zero-rest`, `rebind` and `blend` through the real binary: a
 // copy differs from its source only in what the command changes (and says so
 // in its training record), and bad input fails with a message and no output
 // file.
@@ -96,6 +96,51 @@ TEST_F(ModelCli, RebindCarriesAModelOverToARigWithItsGeometryAndNoOther) {
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("belongs to rig 'procedural', not 'other'"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(path("o.fsm")));
+}
+
+TEST_F(ModelCli, BlendInterpolatesWeightsOfCompatibleModelsOnly) {
+  const SrModel a = load_sr_model(shipped());
+  SrModel b = a;
+  for (auto& t : b.tensors)
+    for (size_t k = 0; k < t.values.size(); ++k) t.values[k] += 0.25f * float(k % 7) - 0.5f;
+  save_sr_model(path("b.fsm"), b);
+  const std::string A = fixtures::shell_quote(shipped());
+  auto r = run("model blend " + A + " " + q("b.fsm") + " -t 0.25 -o " + q("mix.fsm") + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(r.out).at("t").get<double>(), 0.25);
+  const SrModel mix = load_sr_model(path("mix.fsm"));
+  EXPECT_EQ(mix.rig_checksum, a.rig_checksum);
+  EXPECT_DOUBLE_EQ(mix.training.at("blend").at("t").get<double>(), 0.25);
+  ASSERT_EQ(mix.tensors.size(), a.tensors.size());
+  for (size_t i = 0; i < a.tensors.size(); ++i)
+    for (size_t k = 0; k < a.tensors[i].values.size(); k += 13)
+      EXPECT_NEAR(mix.tensors[i].values[k], 0.75f * a.tensors[i].values[k] + 0.25f * b.tensors[i].values[k], 1e-6f)
+          << a.tensors[i].name << "[" << k << "]";
+  // The ends give the sources back exactly.
+  for (const char* t : {"0", "1"}) {
+    r = run("model blend " + A + " " + q("b.fsm") + " -t " + t + " -o " + q(std::string("end") + t + ".fsm"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const SrModel e = load_sr_model(path(std::string("end") + t + ".fsm"));
+    const SrModel& src = std::string(t) == "0" ? a : b;
+    for (size_t i = 0; i < src.tensors.size(); ++i) EXPECT_EQ(e.tensors[i].values, src.tensors[i].values) << t;
+  }
+
+  // Another architecture (zero_rest set), a factor outside [0, 1], another
+  // rig's model: refused, and nothing written.
+  ASSERT_EQ(run("model zero-rest " + A + " -o " + q("zr.fsm")).status, 0);
+  r = run("model blend " + A + " " + q("zr.fsm") + " -o " + q("x1.fsm"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("different architectures"), std::string::npos) << r.err;
+  r = run("model blend " + A + " " + q("b.fsm") + " -t 1.5 -o " + q("x2.fsm"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("not in [0, 1]"), std::string::npos) << r.err;
+  SrModel other = a;
+  other.rig_checksum ^= 1;
+  save_sr_model(path("other.fsm"), other);
+  r = run("model blend " + A + " " + q("other.fsm") + " -o " + q("x3.fsm"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("different rigs"), std::string::npos) << r.err;
+  for (const char* f : {"x1.fsm", "x2.fsm", "x3.fsm"}) EXPECT_FALSE(fs::exists(path(f))) << f;
 }
 
 TEST_F(ModelCli, MissingOrCorruptModelsFailWithoutOutput) {

@@ -1,6 +1,7 @@
 // `facesr model`: inspect a trained model file, set zero_rest on one after
 // training (how the shipped ICT model was made: see docs/network.md), and
-// carry a model over to a rebuilt rig whose geometry it still matches.
+// carry a model over to a rebuilt rig whose geometry it still matches, and
+// blend the weights of two fine-tunes of one model.
 #include <algorithm>
 #include <cstdio>
 
@@ -12,6 +13,7 @@
 #include "rig/rig_io.h"
 #include "sr/sr_geometry_compare.h"
 #include "sr/sr_model.h"
+#include "sr/sr_model_blend.h"
 
 namespace facesr::cli {
 
@@ -121,6 +123,34 @@ void register_model(CLI::App& app) {
     } else {
       std::printf("%s: bound to %s (%s; rest poses within %.3g cm)\n", rb.out.c_str(), rb.rig.c_str(),
                   hex64(to).c_str(), d.max_position_cm);
+    }
+  });
+
+  struct BlendArgs {
+    std::string a, b, out;
+    double t = 0.5;
+    bool json = false;
+  };
+  static BlendArgs bl;
+  auto* m = model->add_subcommand(
+      "blend",
+      "Write a model whose weights are (1 - t)·A + t·B, for two fine-tunes of one model (same architecture, rig and "
+      "geometry; not in the paper)");
+  m->add_option("a", bl.a, "First model file (.fsm)")->required();
+  m->add_option("b", bl.b, "Second model file (.fsm)")->required();
+  m->add_option("-t", bl.t, "Blend factor in [0, 1] (default 0.5): 0 gives A, 1 gives B");
+  m->add_option("-o,--out", bl.out, "Output model file")->required();
+  m->add_flag("--json", bl.json, "Print a JSON summary of the written model, with t");
+  add_action(m, [] {
+    const SrModel a = load_sr_model(bl.a), b = load_sr_model(bl.b);
+    const SrModel out = blend_sr_models(a, b, bl.t, bl.a + " and " + bl.b);
+    save_sr_model(bl.out, out);  // written to a temporary name, then renamed
+    if (bl.json) {
+      auto s = model_summary(out, bl.out);
+      s["t"] = bl.t;
+      std::printf("%s\n", s.dump(2).c_str());
+    } else {
+      std::printf("%s: (1 - %g)·%s + %g·%s\n", bl.out.c_str(), bl.t, bl.a.c_str(), bl.t, bl.b.c_str());
     }
   });
 }
