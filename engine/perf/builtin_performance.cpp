@@ -135,7 +135,6 @@ const char* const kSparseBases[] = {
     "mouthShrugLower", "mouthShrugUpper", "mouthSmile", "mouthStretch", "mouthUpperUp", "noseSneer"};
 constexpr size_t kNumSparseBases = sizeof(kSparseBases) / sizeof(kSparseBases[0]);
 
-
 // Control k of a pose take: min_count + (0 … count_choices - 1) distinct
 // bases from kSparseBases, each at lo + span · U[0, 1), both halves of a paired
 // shape with their own ±20 % (so poses are slightly asymmetric), at most 1.

@@ -13,9 +13,10 @@ SrModel blend_sr_models(const SrModel& a, const SrModel& b, double t, const std:
   require(a.rig_name == b.rig_name && a.rig_checksum == b.rig_checksum,
           context + ": the models belong to different rigs ('" + a.rig_name + "' and '" + b.rig_name + "')");
   require(a.num_lr == b.num_lr && a.num_hr == b.num_hr, context + ": the models have different LR/HR sizes");
-  require(architecture_to_json(a.arch) == architecture_to_json(b.arch),
-          context + ": the models have different architectures (" + architecture_to_json(a.arch).dump() + " vs " +
-              architecture_to_json(b.arch).dump() + ")");
+  const nlohmann::json ja = architecture_to_json(a.arch), jb = architecture_to_json(b.arch);
+  for (const auto& [key, value] : ja.items())
+    require(jb.contains(key) && jb.at(key) == value, context + ": the models have different architectures (" + key +
+                                                         ": " + value.dump() + " vs " + jb.value(key, nlohmann::json()).dump() + ")");
   // Weights only mean the same thing over the same neighbourhoods and rest poses.
   const SrGeometryDifference d = compare_sr_geometry(a.geometry, b.geometry);
   require(d.topology_mismatch.empty(), context + ": the models' " + d.topology_mismatch + " differ");
