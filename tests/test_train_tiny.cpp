@@ -288,6 +288,35 @@ TEST_F(TrainTiny, EvalComparesEveryMethodAndWritesItsOutputs) {
   EXPECT_FALSE(fs::exists(path("eval3/report.json")));
 }
 
+TEST_F(TrainTiny, EvalOnTheValidationSplitSeesOnlyTheFramesTrainingHeldOut) {
+  train_model(fixtures::procedural_rig(), arch(), options("val.fsm", 2));  // validation_every 4
+  auto r = run("eval --rig " + q("p.rig") + " --dataset " + q("data") + " --model " + q("val.fsm") +
+               " --methods ours,embedded,rbf --split validation --validation-every 4 --pictures 1 --fit-frames 4 -o " +
+               q("evv") + " --json -q");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["split"], "validation");
+  EXPECT_EQ(j["test_frames"], 3);  // pain: 12 frames, frames 3, 7, 11
+  EXPECT_EQ(j["baselines"]["rbf"]["fit_frames"], 4);
+  std::ifstream csv(path("evv/frame_errors.csv"));
+  std::string line;
+  std::getline(csv, line);
+  std::vector<std::string> rows;
+  while (std::getline(csv, line)) rows.push_back(line.substr(0, line.find(',', line.find(',') + 1)));
+  EXPECT_EQ(rows, (std::vector<std::string>{"pain,3", "pain,7", "pain,11"}));
+
+  for (const auto& [args, expect] : std::vector<std::pair<std::string, std::string>>{
+           {"--split train", "split must be test or validation"},
+           {"--split validation --validation-every 1", "at least 2"},
+           {"--split validation --validation-every 40", "no validation frames"}}) {
+    r = run("eval --rig " + q("p.rig") + " --dataset " + q("data") + " --methods embedded " + args + " -o " +
+            q("evbad") + " -q");
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(path("evbad/report.json"))) << args;
+  }
+}
+
 TEST_F(TrainTiny, EvalNeedsTrainingFramesOnlyForTheFittedBaselines) {
   // A dataset holding only its test split (e.g. while the training
   // sequences are still being simulated).

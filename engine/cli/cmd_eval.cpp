@@ -21,6 +21,11 @@ void register_eval(CLI::App& app) {
   auto* sub = app.add_subcommand("eval", "Compare the network with the embedded, RBF, MLS and β-VAE baselines");
   sub->add_option("--rig", a.rig, "Rig file")->required();
   sub->add_option("--dataset", a.o.dataset_dir, "Dataset folder (its test split is evaluated)")->required();
+  sub->add_option("--split", a.o.split,
+                  "test (default) | validation: the training frames `facesr train` held out (every n-th, "
+                  "--validation-every), for choosing between models without looking at the test split");
+  sub->add_option("--validation-every", a.o.validation_every,
+                  "With --split validation: the n that training used (default 10, train's default)");
   sub->add_option("--model", a.o.model_path, "Trained network (.fsm from `facesr train`)");
   sub->add_option("--vae", a.o.vae_path, "Trained β-VAE (.fsm from `facesr train --kind vae`)");
   sub->add_option("--methods", a.methods, "Comma-separated methods (default ours,embedded,rbf,mls,vae)");
@@ -35,7 +40,7 @@ void register_eval(CLI::App& app) {
   sub->add_option("--markdown-tag", a.tag, "Section name in that file (default eval-<rig>)");
   sub->add_flag("--json", a.json,
                 "Print the report: per method mean_cm, median_cm, std_cm, max_cm, min_cm, dame, normal_deg; "
-                "frames_ours_beats_embedded, test_frames");
+                "frames_ours_beats_embedded, test_frames (the frames evaluated, of --split), split");
   sub->add_flag("--quiet,-q", a.quiet, "No progress output");
   add_action(sub, [] {
     require(a.o.pictures >= 0 && a.o.pictures <= 64, "--pictures must be in [0, 64]");
@@ -49,8 +54,8 @@ void register_eval(CLI::App& app) {
     j["date"] = today_iso();
     if (!a.markdown.empty()) {
       const std::string head = "Measured " + today_iso() + " on " + machine_description() + ". Rig `" + rig.name +
-                               "`, dataset `" + a.o.dataset_dir + "`, " + std::to_string(j.value("test_frames", 0)) +
-                               " test frames.\n\n";
+                               "`, dataset `" + a.o.dataset_dir + "`, " + std::to_string(j.value("test_frames", 0)) + " " +
+                               a.o.split + " frames.\n\n";
       update_markdown_section(a.markdown, a.tag.empty() ? "eval-" + rig.name : a.tag, head + md);
     }
     if (a.json) {
@@ -61,8 +66,8 @@ void register_eval(CLI::App& app) {
                     j[m.get<std::string>()]["mean_cm"].get<double>(), j[m.get<std::string>()]["max_cm"].get<double>(),
                     j[m.get<std::string>()]["dame"].get<double>(), j[m.get<std::string>()]["normal_deg"].get<double>());
       if (j.contains("frames_ours_beats_embedded"))
-        std::printf("ours beats embedded on %d of %d test frames\n", j["frames_ours_beats_embedded"].get<int>(),
-                    j["test_frames"].get<int>());
+        std::printf("ours beats embedded on %d of %d %s frames\n", j["frames_ours_beats_embedded"].get<int>(),
+                    j["test_frames"].get<int>(), a.o.split.c_str());
       std::printf("wrote %s\n", a.o.out_dir.c_str());
     }
   });

@@ -1,6 +1,8 @@
 #pragma once
 // `facesr eval`: the trained network ("ours") against the paper's baselines
-// (embedded, RBF, MLS, β-VAE) on a dataset's test split, through
+// (embedded, RBF, MLS, β-VAE) on a dataset's test split (or on the training
+// split's held-out validation frames, for choosing a model without looking at
+// the test split), through
 // engine/eval's metrics. Lives beside the trainer because "ours" and "vae"
 // run in LibTorch here.
 #include <string>
@@ -18,6 +20,12 @@ struct ModelEvaluationOptions {
   std::string vae_path;    // "vae" (optional)
   std::vector<std::string> methods{"ours", "embedded", "rbf", "mls", "vae"};  // those available are run
   std::string out_dir;     // CSV, SVG, pictures, report.json
+  // "test": the manifest's test split. "validation": every
+  // validation_every-th frame of the training split, the frames `facesr
+  // train --validation-every` (same n) holds out; RBF and MLS then fit on the
+  // remaining training frames.
+  std::string split = "test";
+  int validation_every = 10;
   int pictures = 4;        // test frames pictured (evenly spaced)
   int spectral_k = 100;
   // σ (cm) and μ for the baselines; <= 0: fitted on up to fit_frames training
