@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "core/binary_io.h"
 #include "dataset/generate.h"
@@ -292,7 +293,7 @@ TEST_F(TrainTiny, EvalOnTheValidationSplitSeesOnlyTheFramesTrainingHeldOut) {
   train_model(fixtures::procedural_rig(), arch(), options("val.fsm", 2));  // validation_every 4
   auto r = run("eval --rig " + q("p.rig") + " --dataset " + q("data") + " --model " + q("val.fsm") +
                " --methods ours,embedded,rbf --split validation --validation-every 4 --pictures 1 --fit-frames 4 -o " +
-               q("evv") + " --json -q");
+               q("evv") + " --markdown " + q("B.md") + " --json -q");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["split"], "validation");
@@ -304,6 +305,11 @@ TEST_F(TrainTiny, EvalOnTheValidationSplitSeesOnlyTheFramesTrainingHeldOut) {
   std::vector<std::string> rows;
   while (std::getline(csv, line)) rows.push_back(line.substr(0, line.find(',', line.find(',') + 1)));
   EXPECT_EQ(rows, (std::vector<std::string>{"pain,3", "pain,7", "pain,11"}));
+  // Its Markdown table goes to a section of its own, never over the test table's.
+  std::stringstream md;
+  md << std::ifstream(path("B.md")).rdbuf();
+  EXPECT_NE(md.str().find("-validation:start"), std::string::npos) << md.str();
+  EXPECT_NE(md.str().find("3 validation frames"), std::string::npos) << md.str();
 
   for (const auto& [args, expect] : std::vector<std::pair<std::string, std::string>>{
            {"--split train", "split must be test or validation"},

@@ -37,7 +37,7 @@ void register_eval(CLI::App& app) {
   sub->add_option("--mls-sigma", a.o.mls_sigma_cm, "MLS width in cm (default: fitted on training frames)");
   sub->add_option("--fit-frames", a.o.fit_frames, "Training frames used to fit the baselines' widths (default 24)");
   sub->add_option("--markdown", a.markdown, "Record the table in this Markdown file (e.g. BENCHMARKS.md)");
-  sub->add_option("--markdown-tag", a.tag, "Section name in that file (default eval-<rig>)");
+  sub->add_option("--markdown-tag", a.tag, "Section name in that file (default eval-<rig>, or eval-<rig>-validation)");
   sub->add_flag("--json", a.json,
                 "Print the report: per method mean_cm, median_cm, std_cm, max_cm, min_cm, dame, normal_deg; "
                 "frames_ours_beats_embedded, test_frames (the frames evaluated, of --split), split");
@@ -54,9 +54,13 @@ void register_eval(CLI::App& app) {
     j["date"] = today_iso();
     if (!a.markdown.empty()) {
       const std::string head = "Measured " + today_iso() + " on " + machine_description() + ". Rig `" + rig.name +
-                               "`, dataset `" + a.o.dataset_dir + "`, " + std::to_string(j.value("test_frames", 0)) + " " +
-                               a.o.split + " frames.\n\n";
-      update_markdown_section(a.markdown, a.tag.empty() ? "eval-" + rig.name : a.tag, head + md);
+                               "`, dataset `" + a.o.dataset_dir + "`, " + std::to_string(j.value("test_frames", 0)) +
+                               " " + a.o.split + " frames.\n\n";
+      // Validation numbers get their own section, so they never replace the test table.
+      const std::string tag = !a.tag.empty()              ? a.tag
+                              : a.o.split == "validation" ? "eval-" + rig.name + "-validation"
+                                                          : "eval-" + rig.name;
+      update_markdown_section(a.markdown, tag, head + md);
     }
     if (a.json) {
       std::printf("%s\n", j.dump(2).c_str());

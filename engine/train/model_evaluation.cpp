@@ -89,7 +89,8 @@ json evaluate_models(const Rig& rig, const ModelEvaluationOptions& opt, std::str
   json timing = json::object(), baselines = json::object();
   const int64_t T = evaluated.size();
   auto timed = [&](const std::string& name, const std::function<std::vector<std::vector<float>>()>& run) {
-    if (opt.progress) std::fprintf(stderr, "[eval] %s on %lld %s frames ...\n", name.c_str(), (long long)T, opt.split.c_str());
+    if (opt.progress)
+      std::fprintf(stderr, "[eval] %s on %lld %s frames ...\n", name.c_str(), (long long)T, opt.split.c_str());
     const auto t0 = std::chrono::steady_clock::now();
     methods.push_back({name, run()});
     timing[name + "_ms_per_frame"] = 1e3 * seconds_since(t0) / double(T);
@@ -111,10 +112,10 @@ json evaluate_models(const Rig& rig, const ModelEvaluationOptions& opt, std::str
     }
     const double cell = rig.lattice.cell > 0 ? rig.lattice.cell : 1.0;
     const std::vector<double> sigmas{0.5 * cell, cell, 2 * cell, 4 * cell};
-    const auto lr_test = frames_of(evaluated.lr);
+    const auto lr_eval = frames_of(evaluated.lr);
     auto run_baseline = [&](const auto& b) {
-      std::vector<std::vector<float>> out(lr_test.size(), std::vector<float>(size_t(3 * data.num_hr)));
-      for (size_t f = 0; f < lr_test.size(); ++f) b.apply(lr_test[f].data(), out[f].data());
+      std::vector<std::vector<float>> out(lr_eval.size(), std::vector<float>(size_t(3 * data.num_hr)));
+      for (size_t f = 0; f < lr_eval.size(); ++f) b.apply(lr_eval[f].data(), out[f].data());
       return out;
     };
     if (wanted(opt, "rbf")) {
