@@ -5,25 +5,16 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
-#include <sstream>
 
 #include <unistd.h>
 
 #include "bench/bench_report.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace facesr;
 
-namespace {
-
-std::string read_all(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-}  // namespace
+using fixtures::read_text;
 
 TEST(BenchReport, MachineSlugIsATagWordWithTheCpuFamilyAndModel) {
   const std::string slug = machine_slug();
@@ -45,9 +36,9 @@ TEST(BenchReport, SectionsAreReplacedInPlaceAndAppendedWhenNew) {
   { std::ofstream(md) << "# Head\n\n<!-- a:start -->\nold a\n<!-- a:end -->\n\ntail\n"; }
   update_markdown_section(md.string(), "a", "new a");
   update_markdown_section(md.string(), "b", "new b\n");
-  EXPECT_EQ(read_all(md), "# Head\n\n<!-- a:start -->\nnew a\n<!-- a:end -->\n\ntail\n\n<!-- b:start -->\nnew b\n<!-- b:end -->\n");
+  EXPECT_EQ(read_text(md), "# Head\n\n<!-- a:start -->\nnew a\n<!-- a:end -->\n\ntail\n\n<!-- b:start -->\nnew b\n<!-- b:end -->\n");
   { std::ofstream(md) << "<!-- a:start -->\nno end\n"; }
   EXPECT_THROW(update_markdown_section(md.string(), "a", "x"), std::exception);
-  EXPECT_EQ(read_all(md), "<!-- a:start -->\nno end\n");
+  EXPECT_EQ(read_text(md), "<!-- a:start -->\nno end\n");
   fs::remove_all(dir);
 }

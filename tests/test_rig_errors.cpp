@@ -8,7 +8,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -25,6 +24,8 @@ using namespace facesr;
 
 namespace {
 
+using fixtures::read_text;
+
 fs::path make_temp_dir(const std::string& suite) {
   const fs::path d = fs::temp_directory_path() / ("facesr_err_" + std::to_string(::getpid()) + "_" + suite);
   fs::remove_all(d);
@@ -36,13 +37,6 @@ void write_text(const fs::path& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary | std::ios::trunc);
   out << text;
   ASSERT_TRUE(out.good()) << p;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
 }
 
 using fixtures::error_of;

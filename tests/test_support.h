@@ -39,6 +39,8 @@ struct CliResult {
 // capturing stdout and stderr through files in `scratch_dir`.
 CliResult run_cli(const std::string& args, const std::string& scratch_dir);
 std::string shell_quote(const std::string& s);
+// The whole file as bytes ("" when it cannot be read).
+std::string read_text(const std::string& path);
 
 }  // namespace facesr::fixtures
 

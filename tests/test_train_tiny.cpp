@@ -6,7 +6,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "core/binary_io.h"
 #include "dataset/generate.h"
@@ -306,10 +305,9 @@ TEST_F(TrainTiny, EvalOnTheValidationSplitSeesOnlyTheFramesTrainingHeldOut) {
   while (std::getline(csv, line)) rows.push_back(line.substr(0, line.find(',', line.find(',') + 1)));
   EXPECT_EQ(rows, (std::vector<std::string>{"pain,3", "pain,7", "pain,11"}));
   // Its Markdown table goes to a section of its own, never over the test table's.
-  std::stringstream md;
-  md << std::ifstream(path("B.md")).rdbuf();
-  EXPECT_NE(md.str().find("-validation:start"), std::string::npos) << md.str();
-  EXPECT_NE(md.str().find("3 validation frames"), std::string::npos) << md.str();
+  const std::string md = fixtures::read_text(path("B.md"));
+  EXPECT_NE(md.find("-validation:start"), std::string::npos) << md;
+  EXPECT_NE(md.find("3 validation frames"), std::string::npos) << md;
 
   for (const auto& [args, expect] : std::vector<std::pair<std::string, std::string>>{
            {"--split train", "split must be test or validation"},
