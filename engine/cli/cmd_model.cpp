@@ -1,7 +1,8 @@
 // `facesr model`: inspect a trained model file, set zero_rest on one after
 // training (how the shipped ICT model was made: see docs/network.md), and
 // carry a model over to a rebuilt rig whose geometry it still matches, and
-// blend the weights of two fine-tunes of one model.
+// blend the weights of two fine-tunes of one model, and measure its rest
+// tangents on a dataset.
 #include <algorithm>
 #include <cstdio>
 
@@ -11,6 +12,7 @@
 #include "core/error.h"
 #include "core/framed_file.h"
 #include "rig/rig_io.h"
+#include "runtime/fit_rest_tangents.h"
 #include "sr/sr_geometry_compare.h"
 #include "sr/sr_model.h"
 #include "sr/sr_model_blend.h"
@@ -24,7 +26,8 @@ nlohmann::json model_summary(const SrModel& m, const std::string& path) {
   for (const auto& t : m.tensors) parameters += t.values.size();
   return {{"model", path},          {"kind", m.arch.kind},          {"rig_name", m.rig_name},
           {"num_lr", m.num_lr},     {"num_hr", m.num_hr},           {"parameters", parameters},
-          {"zero_rest", m.arch.zero_rest}, {"embedded_skip", m.arch.embedded_skip}, {"units", "cm"}};
+          {"zero_rest", m.arch.zero_rest}, {"embedded_skip", m.arch.embedded_skip},
+          {"rest_tangents", m.rest_tangents.count()}, {"units", "cm"}};
 }
 
 }  // namespace
@@ -151,6 +154,56 @@ void register_model(CLI::App& app) {
       std::printf("%s\n", s.dump(2).c_str());
     } else {
       std::printf("%s: (1 - %g)·%s + %g·%s\n", bl.out.c_str(), bl.t, bl.a.c_str(), bl.t, bl.b.c_str());
+    }
+  });
+
+  struct TangentArgs {
+    std::string in, out, dataset;
+    RestTangentFitOptions opt;
+    bool json = false;
+  };
+  static TangentArgs ta;
+  auto* tg = model->add_subcommand(
+      "tangents",
+      "Write a copy corrected to first order along every blendshape at rest, measured on the dataset's training "
+      "frames that have one shape alone at a small weight (not in the paper; see docs/network.md)");
+  tg->add_option("model", ta.in, "Trained model file (.fsm, kind sr); any rest tangents it has are replaced")
+      ->required();
+  tg->add_option("--dataset", ta.dataset, "Dataset folder (from `facesr dataset`) with single-shape frames")
+      ->required();
+  tg->add_option("-o,--out", ta.out, "Output model file")->required();
+  tg->add_option("--validation-every", ta.opt.validation_every,
+                 "Frames held out as in `facesr train` (every n-th training frame; 0: none): never used here");
+  tg->add_option("--max-weight", ta.opt.max_weight, "Largest weight of a shape still counted as near rest")
+      ->check(CLI::PositiveNumber);
+  tg->add_option("--fade", ta.opt.fade,
+                 "Norm of the shape coefficients at which the correction falls to 1/e (Gaussian fade)")
+      ->check(CLI::PositiveNumber);
+  tg->add_option("--ridge", ta.opt.ridge, "Ridge term of the coefficient solve, relative to the mean of diag(DᵀD)")
+      ->check(CLI::PositiveNumber);
+  tg->add_flag("--json", ta.json,
+               "Print a JSON summary: rest_tangents (count), shapes (per shape: sequence, frame, weight, "
+               "network_error_cm, corrected_error_cm), unmeasured, fade, ridge");
+  add_action(tg, [] {
+    SrModel m = load_sr_model(ta.in);
+    RestTangentFit fit = fit_rest_tangents(m, ta.dataset, ta.opt);
+    m.rest_tangents = std::move(fit.tangents);
+    m.training["rest_tangents"] = {{"dataset", ta.dataset},
+                                   {"validation_every", ta.opt.validation_every},
+                                   {"max_weight", ta.opt.max_weight},
+                                   {"shapes", fit.shapes}};
+    save_sr_model(ta.out, m);  // written to a temporary name, then renamed
+    if (ta.json) {
+      auto s = model_summary(m, ta.out);
+      s["shapes"] = fit.shapes;
+      s["unmeasured"] = fit.unmeasured;
+      s["fade"] = m.rest_tangents.fade;
+      s["ridge"] = m.rest_tangents.ridge;
+      std::printf("%s\n", s.dump(2).c_str());
+    } else {
+      std::printf("%s: rest tangents of %d shapes (%zu never alone at weight <= %g in the training frames), fade %g\n",
+                  ta.out.c_str(), m.rest_tangents.count(), fit.unmeasured.size(), ta.opt.max_weight,
+                  m.rest_tangents.fade);
     }
   });
 }

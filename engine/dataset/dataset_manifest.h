@@ -52,6 +52,13 @@ void save_manifest(const std::string& path, const DatasetManifest& m);
 DatasetManifest load_manifest(const std::string& path);
 
 nlohmann::json manifest_to_json(const DatasetManifest& m);
+
+// Whether frame f of a training sequence is held out for validation when
+// every `validation_every`-th frame is (0: none): the one rule that training,
+// `facesr eval --split validation` and fits on training frames share.
+inline bool is_validation_frame(int f, int validation_every) {
+  return validation_every > 0 && f % validation_every == validation_every - 1;
+}
 // `source` names the origin in errors (a path, or "manifest").
 DatasetManifest manifest_from_json(const nlohmann::json& j, const std::string& source);
 

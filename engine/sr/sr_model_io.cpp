@@ -18,8 +18,9 @@ using nlohmann::json;
 namespace {
 
 const char kMagic[8] = {'F', 'A', 'C', 'E', 'S', 'R', 'S', 'M'};
-// Version 2 added the surface embedding (embed_nodes, embed_weights).
-constexpr uint32_t kVersion = 2;
+// Version 2 added the surface embedding (embed_nodes, embed_weights),
+// version 3 the rest tangents.
+constexpr uint32_t kVersion = 3;
 
 template <class T>
 void check_size(const std::vector<T>& v, size_t n, const std::string& ctx, const char* what) {
@@ -42,6 +43,12 @@ json header_json(const SrModel& m) {
   return {{"format", "facesr-sr-model"}, {"version", kVersion},       {"units", "cm"},
           {"rig_name", m.rig_name},      {"rig_checksum", m.rig_checksum}, {"num_lr", m.num_lr},
           {"num_hr", m.num_hr},          {"architecture", architecture_to_json(m.arch)}, {"training", m.training}};
+}
+
+json header_with_tangents(const SrModel& m) {
+  json h = header_json(m);
+  if (!m.rest_tangents.empty()) h["rest_tangents"] = rest_tangents_to_json(m.rest_tangents);
+  return h;
 }
 
 }  // namespace
@@ -109,6 +116,10 @@ void validate_sr_model(const SrModel& m, const std::string& ctx) {
     check_size(t.values, n, ctx, ("parameter '" + t.name + "'").c_str());
     check_finite(t.values, ctx, "parameter '" + t.name + "'");
   }
+  if (!m.rest_tangents.empty()) {
+    require(m.arch.kind == "sr", ctx + ": rest tangents apply to the super-resolution network only");
+    validate_rest_tangents(m.rest_tangents, m.num_lr, m.num_hr, ctx);
+  }
 }
 
 void save_sr_model(const std::string& path, const SrModel& m) {
@@ -116,7 +127,7 @@ void save_sr_model(const std::string& path, const SrModel& m) {
   ByteWriter w;
   for (char c : kMagic) w.put(c);
   w.put(kVersion);
-  w.put_string(header_json(m).dump());
+  w.put_string(header_with_tangents(m).dump());
   const SrGeometry& g = m.geometry;
   w.put_vector(g.lr_rest);
   w.put_vector(g.hr_rest);
@@ -137,6 +148,8 @@ void save_sr_model(const std::string& path, const SrModel& m) {
     w.put_vector(t.shape);
     w.put_vector(t.values);
   }
+  w.put_vector(m.rest_tangents.lr);
+  w.put_vector(m.rest_tangents.hr);
   w.put(fnv1a64(w.bytes().data(), w.bytes().size()));
   write_file_atomically(path, [&](std::ostream& o) {
     o.write(reinterpret_cast<const char*>(w.bytes().data()), std::streamsize(w.bytes().size()));
@@ -156,8 +169,9 @@ SrModel load_sr_model(const std::string& path) {
           path + ": checksum mismatch: the file is corrupt or truncated");
   ByteReader r(bytes.data() + 8, bytes.size() - 16, path);
   const auto version = r.get<uint32_t>("format version");
-  require(version == kVersion, path + ": model format version " + std::to_string(version) +
-                                   " is not supported (this build reads version " + std::to_string(kVersion) + ")");
+  require(version == 2 || version == kVersion, path + ": model format version " + std::to_string(version) +
+                                                   " is not supported (this build reads versions 2 and " +
+                                                   std::to_string(kVersion) + ")");
   json h;
   try {
     h = json::parse(r.get_string("header"));
@@ -202,6 +216,14 @@ SrModel load_sr_model(const std::string& path) {
     t.shape = r.get_vector<int64_t>("tensor shape", 8);
     t.values = r.get_vector<float>("tensor values");
     m.tensors.push_back(std::move(t));
+  }
+  if (version >= 3) {
+    RestTangents& rt = m.rest_tangents;
+    if (h.contains("rest_tangents")) rest_tangents_from_json(h["rest_tangents"], rt, path);
+    rt.lr = r.get_vector<float>("rest tangent LR directions");
+    rt.hr = r.get_vector<float>("rest tangent HR residuals");
+    require(!rt.empty() || (rt.lr.empty() && rt.hr.empty()),
+            at + "rest tangent arrays without a \"rest_tangents\" header entry");
   }
   require(r.remaining() == 0, at + std::to_string(r.remaining()) + " unexpected bytes before the checksum");
   validate_sr_model(m, path);

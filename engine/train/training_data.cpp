@@ -43,7 +43,7 @@ DatasetSplit load_dataset_split(const std::string& dir, uint64_t rig_checksum, i
     require(int(s.header.num_lr_nodes) == m.num_lr_nodes && int(s.header.num_surface) == m.num_surface,
             dir + "/" + e.file + ": its sizes differ from the manifest's");
     for (int f = 0; f < s.num_frames(); ++f) {
-      const bool is_val = validation_every > 0 && f % validation_every == validation_every - 1;
+      const bool is_val = is_validation_frame(f, validation_every);
       Builder& b = e.split == "test" ? test : is_val ? val : train;
       b.add(s.frame(f), e.name, f);
     }
