@@ -181,6 +181,16 @@ TEST_F(RestTangentModels, EveryInferencePathAddsTheSameCorrection) {
     EXPECT_LT(max_abs_diff(y_cpu, expected), 1e-6) << a;
     EXPECT_GT(max_abs_diff(y_cpu, y_plain), 1e-3) << a << ": the correction should be visible";
   }
+  // Profiled runs time it as a stage of its own.
+  ClInferenceOptions o;
+  o.profile = true;
+  auto profiled = make_cl_inference(m, o);
+  std::vector<float> x(3 * size_t(N), 0.0f), y(3 * size_t(M));
+  profiled->infer(x.data(), y.data());
+  const auto p = profiled->last_profile();
+  ASSERT_FALSE(p.empty());
+  EXPECT_EQ(p.back().first, "rest tangents");
+  EXPECT_GE(p.back().second, 0.0);
 }
 
 // A dataset on the procedural rig with three shapes: LR displacement and HR

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 namespace facesr {
@@ -53,8 +54,8 @@ class RestTangentCorrection {
  private:
   int S_, N3_, M3_;
   double fade_;
-  std::vector<double> solve_;  // S × 3N
-  std::vector<float> hr_;      // S × 3M
+  Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> solve_;  // S × 3N
+  Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> hr_;     // S × 3M: r_s
 };
 
 }  // namespace facesr
