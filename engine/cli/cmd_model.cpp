@@ -1,8 +1,8 @@
 // `facesr model`: inspect a trained model file, set zero_rest on one after
 // training (how the shipped ICT model was made: see docs/network.md), and
 // carry a model over to a rebuilt rig whose geometry it still matches, and
-// blend the weights of two fine-tunes of one model, and measure its rest
-// tangents on a dataset.
+// blend the weights of two fine-tunes of one model, and measure its
+// near-rest correctives on a dataset.
 #include <algorithm>
 #include <cstdio>
 
@@ -12,7 +12,7 @@
 #include "core/error.h"
 #include "core/framed_file.h"
 #include "rig/rig_io.h"
-#include "runtime/fit_rest_tangents.h"
+#include "runtime/fit_rest_correctives.h"
 #include "sr/sr_geometry_compare.h"
 #include "sr/sr_model.h"
 #include "sr/sr_model_blend.h"
@@ -27,7 +27,7 @@ nlohmann::json model_summary(const SrModel& m, const std::string& path) {
   return {{"model", path},          {"kind", m.arch.kind},          {"rig_name", m.rig_name},
           {"num_lr", m.num_lr},     {"num_hr", m.num_hr},           {"parameters", parameters},
           {"zero_rest", m.arch.zero_rest}, {"embedded_skip", m.arch.embedded_skip},
-          {"rest_tangents", m.rest_tangents.count()}, {"units", "cm"}};
+          {"rest_correctives", m.rest_correctives.count()}, {"units", "cm"}};
 }
 
 }  // namespace
@@ -157,53 +157,57 @@ void register_model(CLI::App& app) {
     }
   });
 
-  struct TangentArgs {
+  struct CorrectiveArgs {
     std::string in, out, dataset;
-    RestTangentFitOptions opt;
+    RestCorrectiveFitOptions opt;
     bool json = false;
   };
-  static TangentArgs ta;
-  auto* tg = model->add_subcommand(
-      "tangents",
-      "Write a copy corrected to first order along every blendshape at rest, measured on the dataset's training "
-      "frames that have one shape alone at a small weight (not in the paper; see docs/network.md)");
-  tg->add_option("model", ta.in, "Trained model file (.fsm, kind sr); any rest tangents it has are replaced")
+  static CorrectiveArgs rc;
+  auto* c = model->add_subcommand(
+      "correctives",
+      "Write a copy with near-rest correctives: the model's residual on the dataset's training frames that have one "
+      "shape alone at a small weight, interpolated between those weights (not in the paper; see docs/network.md)");
+  c->add_option("model", rc.in, "Trained model file (.fsm, kind sr); any correctives it has are replaced")
       ->required();
-  tg->add_option("--dataset", ta.dataset, "Dataset folder (from `facesr dataset`) with single-shape frames")
+  c->add_option("--dataset", rc.dataset, "Dataset folder (from `facesr dataset`) with single-shape frames")
       ->required();
-  tg->add_option("-o,--out", ta.out, "Output model file")->required();
-  tg->add_option("--validation-every", ta.opt.validation_every,
-                 "Frames held out as in `facesr train` (every n-th training frame; 0: none): never used here");
-  tg->add_option("--max-weight", ta.opt.max_weight, "Largest weight of a shape still counted as near rest")
+  c->add_option("-o,--out", rc.out, "Output model file")->required();
+  c->add_option("--validation-every", rc.opt.validation_every,
+                "Frames held out as in `facesr train` (every n-th training frame; 0: none): never used here");
+  c->add_option("--max-weight", rc.opt.max_weight,
+                "Largest weight of a shape still counted as near rest (default 0.1; samples also stay <= fade / 2)")
       ->check(CLI::PositiveNumber);
-  tg->add_option("--fade", ta.opt.fade,
-                 "Norm of the shape coefficients at which the correction falls to 1/e (Gaussian fade)")
+  c->add_option("--fade", rc.opt.fade,
+                "Norm of the shape coefficients at which the correction falls to 1/e (quartic fade; default 0.2)")
       ->check(CLI::PositiveNumber);
-  tg->add_option("--ridge", ta.opt.ridge, "Ridge term of the coefficient solve, relative to the mean of diag(DᵀD)")
+  c->add_option("--ridge", rc.opt.ridge,
+                "Ridge term of the coefficient solve, relative to the mean of diag(DᵀD) (default 1e-3)")
       ->check(CLI::PositiveNumber);
-  tg->add_flag("--json", ta.json,
-               "Print a JSON summary: rest_tangents (count), shapes (per shape: sequence, frame, weight, "
-               "network_error_cm, corrected_error_cm), unmeasured, fade, ridge");
-  add_action(tg, [] {
-    SrModel m = load_sr_model(ta.in);
-    RestTangentFit fit = fit_rest_tangents(m, ta.dataset, ta.opt);
-    m.rest_tangents = std::move(fit.tangents);
-    m.training["rest_tangents"] = {{"dataset", ta.dataset},
-                                   {"validation_every", ta.opt.validation_every},
-                                   {"max_weight", ta.opt.max_weight},
-                                   {"shapes", fit.shapes}};
-    save_sr_model(ta.out, m);  // written to a temporary name, then renamed
-    if (ta.json) {
-      auto s = model_summary(m, ta.out);
+  c->add_flag("--json", rc.json,
+              "Print a JSON summary: rest_correctives (shape count), samples, shapes (per shape its samples: "
+              "sequence, frame, weight, network_error_cm, corrected_error_cm), unmeasured, fade, ridge");
+  add_action(c, [] {
+    SrModel m = load_sr_model(rc.in);
+    RestCorrectiveFit fit = fit_rest_correctives(m, rc.dataset, rc.opt);
+    m.rest_correctives = std::move(fit.correctives);
+    m.training["rest_correctives"] = {{"dataset", rc.dataset},
+                                      {"validation_every", rc.opt.validation_every},
+                                      {"max_weight", rc.opt.max_weight},
+                                      {"shapes", fit.shapes}};
+    save_sr_model(rc.out, m);  // written to a temporary name, then renamed
+    if (rc.json) {
+      auto s = model_summary(m, rc.out);
+      s["samples"] = m.rest_correctives.samples();
       s["shapes"] = fit.shapes;
       s["unmeasured"] = fit.unmeasured;
-      s["fade"] = m.rest_tangents.fade;
-      s["ridge"] = m.rest_tangents.ridge;
+      s["fade"] = m.rest_correctives.fade;
+      s["ridge"] = m.rest_correctives.ridge;
       std::printf("%s\n", s.dump(2).c_str());
     } else {
-      std::printf("%s: rest tangents of %d shapes (%zu never alone at weight <= %g in the training frames), fade %g\n",
-                  ta.out.c_str(), m.rest_tangents.count(), fit.unmeasured.size(), ta.opt.max_weight,
-                  m.rest_tangents.fade);
+      std::printf("%s: near-rest correctives for %d shapes, %d samples (%zu shapes never alone at a small weight in "
+                  "the training frames), fade %g\n",
+                  rc.out.c_str(), m.rest_correctives.count(), m.rest_correctives.samples(), fit.unmeasured.size(),
+                  m.rest_correctives.fade);
     }
   });
 }

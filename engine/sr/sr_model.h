@@ -1,5 +1,5 @@
 #pragma once
-// A trained super-resolution model (".fsm" file, version 3): the
+// A trained super-resolution model (".fsm" file, version 4): the
 // architecture, the rig it belongs to (by checksum, so a model cannot be
 // paired with another rig), the rest-pose neighbourhoods it was trained with,
 // and every parameter tensor. Read by evaluation and by the runtime without
@@ -8,13 +8,15 @@
 //
 //   offset  size  field
 //   0       8     magic "FACESRSM"
-//   8       4     u32 format version (= 3; version 2, still read, has no
-//                   rest tangents; version 1 had no surface embedding)
-//   12            string header: JSON {"format": "facesr-sr-model", "version": 3,
+//   8       4     u32 format version (= 4; version 2, still read, has no
+//                   near-rest correctives; version 3 had them in another
+//                   form and is not read; version 1 had no surface embedding)
+//   12            string header: JSON {"format": "facesr-sr-model", "version": 4,
 //                   "units": "cm", "rig_name", "rig_checksum", "num_lr" (N),
 //                   "num_hr" (M), "architecture": {...}, "training": {...},
-//                   and "rest_tangents": {"shapes", "amplitudes", "fade",
-//                   "ridge"} when the model has them (sr/rest_tangents.h)}
+//                   and "rest_correctives": {"shapes", "amplitudes" (a list
+//                   per shape), "fade", "ridge"} when the model has them
+//                   (sr/rest_correctives.h)}
 //                 geometry (SrGeometry, k values from the architecture):
 //                   vector<f32> lr_rest (N×3), hr_rest (M×3),
 //                               hr_rest_lr_frame (M×3)
@@ -32,9 +34,10 @@
 //                 u64 tensor count T, then T tensors, each:
 //                   string name, vector<i64> shape, vector<f32> values
 //                   (in parameter_shapes() order, values row-major)
-//                 vector<f32> rest tangent LR directions (S×N×3),
-//                             rest tangent HR residuals (S×M×3)
-//                   (both empty when the header has no "rest_tangents")
+//                 vector<f32> rest corrective LR directions (S×N×3),
+//                             rest corrective HR residuals (K×M×3, K the
+//                             samples of all shapes, shape by shape)
+//                   (both empty when the header has no "rest_correctives")
 //   end - 8       u64 FNV-1a 64 of every byte before it
 //
 // Nothing may follow the checksum. Any layout change needs a new version.
@@ -45,7 +48,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sr/sr_architecture.h"
-#include "sr/rest_tangents.h"
+#include "sr/rest_correctives.h"
 #include "sr/sr_geometry.h"
 
 namespace facesr {
@@ -63,7 +66,7 @@ struct SrModel {
   int num_lr = 0, num_hr = 0;  // N, M
   SrGeometry geometry;
   std::vector<SrTensor> tensors;
-  RestTangents rest_tangents;  // empty: none (the network alone)
+  RestCorrectives rest_correctives;  // empty: none (the network alone)
   nlohmann::json training = nlohmann::json::object();  // how it was trained (free-form record)
 
   // The tensor with this name; Error if absent.

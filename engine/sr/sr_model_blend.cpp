@@ -23,10 +23,10 @@ SrModel blend_sr_models(const SrModel& a, const SrModel& b, double t, const std:
   require(d.max_position_cm == 0 && d.max_distance_cm == 0 && d.max_weight == 0,
           context + ": the models' rest-pose geometry differs (by up to " + std::to_string(d.max_position_cm) +
               " cm)");
-  // Tangents measure one network's residual; a blend is another network.
-  require(a.rest_tangents.empty() && b.rest_tangents.empty(),
-          context + ": a model has rest tangents; blend the models without them, then fit them again "
-                    "(`facesr model tangents`)");
+  // Correctives measure one network's residual; a blend is another network.
+  require(a.rest_correctives.empty() && b.rest_correctives.empty(),
+          context + ": a model has near-rest correctives; blend the models without them, then fit them again "
+                    "(`facesr model correctives`)");
   require(a.tensors.size() == b.tensors.size(), context + ": the models have different parameter counts");
   SrModel out = a;
   for (size_t i = 0; i < a.tensors.size(); ++i) {

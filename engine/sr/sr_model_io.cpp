@@ -19,8 +19,9 @@ namespace {
 
 const char kMagic[8] = {'F', 'A', 'C', 'E', 'S', 'R', 'S', 'M'};
 // Version 2 added the surface embedding (embed_nodes, embed_weights),
-// version 3 the rest tangents.
-constexpr uint32_t kVersion = 3;
+// version 4 the near-rest correctives. Version 3 (one sample per shape,
+// "rest_tangents"; one development commit) is not read.
+constexpr uint32_t kVersion = 4;
 
 template <class T>
 void check_size(const std::vector<T>& v, size_t n, const std::string& ctx, const char* what) {
@@ -45,9 +46,9 @@ json header_json(const SrModel& m) {
           {"num_hr", m.num_hr},          {"architecture", architecture_to_json(m.arch)}, {"training", m.training}};
 }
 
-json header_with_tangents(const SrModel& m) {
+json header_with_correctives(const SrModel& m) {
   json h = header_json(m);
-  if (!m.rest_tangents.empty()) h["rest_tangents"] = rest_tangents_to_json(m.rest_tangents);
+  if (!m.rest_correctives.empty()) h["rest_correctives"] = rest_correctives_to_json(m.rest_correctives);
   return h;
 }
 
@@ -116,9 +117,9 @@ void validate_sr_model(const SrModel& m, const std::string& ctx) {
     check_size(t.values, n, ctx, ("parameter '" + t.name + "'").c_str());
     check_finite(t.values, ctx, "parameter '" + t.name + "'");
   }
-  if (!m.rest_tangents.empty()) {
-    require(m.arch.kind == "sr", ctx + ": rest tangents apply to the super-resolution network only");
-    validate_rest_tangents(m.rest_tangents, m.num_lr, m.num_hr, ctx);
+  if (!m.rest_correctives.empty()) {
+    require(m.arch.kind == "sr", ctx + ": rest correctives apply to the super-resolution network only");
+    validate_rest_correctives(m.rest_correctives, m.num_lr, m.num_hr, ctx);
   }
 }
 
@@ -127,7 +128,7 @@ void save_sr_model(const std::string& path, const SrModel& m) {
   ByteWriter w;
   for (char c : kMagic) w.put(c);
   w.put(kVersion);
-  w.put_string(header_with_tangents(m).dump());
+  w.put_string(header_with_correctives(m).dump());
   const SrGeometry& g = m.geometry;
   w.put_vector(g.lr_rest);
   w.put_vector(g.hr_rest);
@@ -148,8 +149,8 @@ void save_sr_model(const std::string& path, const SrModel& m) {
     w.put_vector(t.shape);
     w.put_vector(t.values);
   }
-  w.put_vector(m.rest_tangents.lr);
-  w.put_vector(m.rest_tangents.hr);
+  w.put_vector(m.rest_correctives.lr);
+  w.put_vector(m.rest_correctives.hr);
   w.put(fnv1a64(w.bytes().data(), w.bytes().size()));
   write_file_atomically(path, [&](std::ostream& o) {
     o.write(reinterpret_cast<const char*>(w.bytes().data()), std::streamsize(w.bytes().size()));
@@ -171,7 +172,8 @@ SrModel load_sr_model(const std::string& path) {
   const auto version = r.get<uint32_t>("format version");
   require(version == 2 || version == kVersion, path + ": model format version " + std::to_string(version) +
                                                    " is not supported (this build reads versions 2 and " +
-                                                   std::to_string(kVersion) + ")");
+                                                   std::to_string(kVersion) + "; remake a version-3 model with "
+                                                   "`facesr model correctives`)");
   json h;
   try {
     h = json::parse(r.get_string("header"));
@@ -217,13 +219,13 @@ SrModel load_sr_model(const std::string& path) {
     t.values = r.get_vector<float>("tensor values");
     m.tensors.push_back(std::move(t));
   }
-  if (version >= 3) {
-    RestTangents& rt = m.rest_tangents;
-    if (h.contains("rest_tangents")) rest_tangents_from_json(h["rest_tangents"], rt, path);
-    rt.lr = r.get_vector<float>("rest tangent LR directions");
-    rt.hr = r.get_vector<float>("rest tangent HR residuals");
+  if (version >= 4) {
+    RestCorrectives& rt = m.rest_correctives;
+    if (h.contains("rest_correctives")) rest_correctives_from_json(h["rest_correctives"], rt, path);
+    rt.lr = r.get_vector<float>("rest corrective LR directions");
+    rt.hr = r.get_vector<float>("rest corrective HR residuals");
     require(!rt.empty() || (rt.lr.empty() && rt.hr.empty()),
-            at + "rest tangent arrays without a \"rest_tangents\" header entry");
+            at + "rest corrective arrays without a \"rest_correctives\" header entry");
   }
   require(r.remaining() == 0, at + std::to_string(r.remaining()) + " unexpected bytes before the checksum");
   validate_sr_model(m, path);

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
-#include "sr/rest_tangents.h"
+#include "sr/rest_correctives.h"
 #include "train/model_export.h"
 #include "train/sr_network.h"
 #include "train/vae_network.h"
@@ -14,13 +14,13 @@ struct TorchPredictor::Impl {
   SrNetwork sr{nullptr};
   VaeNetwork vae{nullptr};
   int64_t N = 0;
-  std::unique_ptr<RestTangentCorrection> tangents;  // null: none
+  std::unique_ptr<RestCorrection> correction;  // null: none
 };
 
 TorchPredictor::TorchPredictor(const SrModel& m) : impl_(std::make_unique<Impl>()) {
   impl_->N = m.num_lr;
-  if (!m.rest_tangents.empty())
-    impl_->tangents = std::make_unique<RestTangentCorrection>(m.rest_tangents, m.num_lr, m.num_hr);
+  if (!m.rest_correctives.empty())
+    impl_->correction = std::make_unique<RestCorrection>(m.rest_correctives, m.num_lr, m.num_hr);
   if (m.arch.kind == "sr") {
     impl_->sr = SrNetwork(m.arch, m.geometry);
   } else {
@@ -47,11 +47,11 @@ torch::Tensor TorchPredictor::predict(const torch::Tensor& lr, int batch) {
     out.push_back(impl_->sr ? impl_->sr->forward(x).hr_disp : impl_->vae->forward(x, false).hr_disp);
   }
   torch::Tensor y = torch::cat(out, 0);
-  if (impl_->tangents) {
-    // The same host arithmetic as the runtime's (runtime/rest_tangent_corrected.h).
+  if (impl_->correction) {
+    // The same host arithmetic as the runtime's (runtime/rest_corrected.h).
     y = y.to(torch::kCPU).contiguous();
     const auto x = lr.to(torch::kCPU, torch::kFloat32).contiguous();
-    for (int64_t f = 0; f < y.size(0); ++f) impl_->tangents->apply(x[f].data_ptr<float>(), y[f].data_ptr<float>());
+    for (int64_t f = 0; f < y.size(0); ++f) impl_->correction->apply(x[f].data_ptr<float>(), y[f].data_ptr<float>());
   }
   return y;
 }

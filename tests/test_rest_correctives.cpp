@@ -1,20 +1,24 @@
-// Rest tangents (sr/rest_tangents.h): the correction's arithmetic, its
+// Near-rest correctives (sr/rest_correctives.h): the correction's
+// arithmetic (coefficients, first order at rest, in-betweens, fade), its
 // model-file round trip, parity of every inference path with it, and the fit
-// (`facesr model tangents`) on a small dataset whose HR response is linear
-// in the weights, so the first-order claim can be checked exactly.
+// (`facesr model correctives`) on a small dataset whose HR response is
+// linear in the weights, so what it reproduces can be checked exactly.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <filesystem>
 #include <random>
 
 #include <nlohmann/json.hpp>
 
+#include "core/checksum.h"
 #include "dataset/dataset_io.h"
 #include "dataset/dataset_manifest.h"
 #include "rig/rig_io.h"
 #include "runtime/sr_inference.h"
-#include "sr/rest_tangents.h"
+#include "sr/rest_correctives.h"
 #include "sr/sr_model.h"
 #include "sr/sr_model_blend.h"
 #include "sr_fixtures.h"
@@ -37,16 +41,17 @@ std::vector<float> random_values(size_t n, uint32_t seed, float scale) {
   return v;
 }
 
-RestTangents two_shapes(int N, int M, uint32_t seed) {
-  RestTangents t;
+// Two shapes, one sample each at weight 0.05 (linear up to there).
+RestCorrectives two_shapes(int N, int M, uint32_t seed) {
+  RestCorrectives t;
   t.shapes = {"a", "b"};
-  t.amplitudes = {0.005f, 0.02f};
+  t.amplitudes = {{0.05f}, {0.05f}};
   t.lr = random_values(2 * 3 * size_t(N), seed, 1.0f);
   t.hr = random_values(2 * 3 * size_t(M), seed + 1, 0.5f);
   return t;
 }
 
-std::vector<float> combine(const RestTangents& t, double a, double b, int N) {
+std::vector<float> combine(const RestCorrectives& t, double a, double b, int N) {
   std::vector<float> x(3 * size_t(N));
   for (size_t i = 0; i < x.size(); ++i) x[i] = float(a * t.lr[i] + b * t.lr[x.size() + i]);
   return x;
@@ -58,10 +63,10 @@ double max_abs_diff(const std::vector<float>& a, const std::vector<float>& b) {
   return d;
 }
 
-TEST(RestTangents, CoefficientsRecoverTheWeightsOfACombination) {
+TEST(RestCorrectives, CoefficientsRecoverTheWeightsOfACombination) {
   const int N = 40, M = 7;
-  const RestTangents t = two_shapes(N, M, 5);
-  const RestTangentCorrection corr(t, N, M);
+  const RestCorrectives t = two_shapes(N, M, 5);
+  const RestCorrection corr(t, N, M);
   const auto c = corr.coefficients(combine(t, 0.03, -0.01, N).data());
   // The ridge shrinks by about ridge / (1 + ridge) for directions this size.
   EXPECT_NEAR(c[0], 0.03, 0.03 * 3e-3);
@@ -71,12 +76,13 @@ TEST(RestTangents, CoefficientsRecoverTheWeightsOfACombination) {
   EXPECT_EQ(zero[1], 0.0);
 }
 
-// The added field is φ(‖c‖) Σ c_s r_s: zero at rest, r_a · ε + O(ε⁵) along
-// shape a (φ is flat: 1 − O(ε⁴)), and gone for large poses.
-TEST(RestTangents, CorrectionIsFirstOrderExactAndFadesForLargePoses) {
+// Below the first sample the added field is φ(‖c‖) Σ (c_s / a_s1) R_s1:
+// zero at rest, (R_a / a_a1) · ε + O(ε⁵) along shape a (φ is flat:
+// 1 − O(ε⁴)), and gone for large poses.
+TEST(RestCorrectives, CorrectionIsFirstOrderExactAndFadesForLargePoses) {
   const int N = 40, M = 7;
-  const RestTangents t = two_shapes(N, M, 9);
-  const RestTangentCorrection corr(t, N, M);
+  const RestCorrectives t = two_shapes(N, M, 9);
+  const RestCorrection corr(t, N, M);
   auto added = [&](double a, double b) {
     std::vector<float> y(3 * size_t(M), 0.0f);
     corr.apply(combine(t, a, b, N).data(), y.data());
@@ -86,8 +92,8 @@ TEST(RestTangents, CorrectionIsFirstOrderExactAndFadesForLargePoses) {
   // Relative to the ridge's own shrink, measured at the smallest ε.
   const std::vector<float> tiny = added(1e-4, 0);
   double shrink = 0;
-  for (size_t i = 0; i < tiny.size(); ++i) shrink = std::max(shrink, std::abs(tiny[i] / 1e-4 - t.hr[i]));
-  EXPECT_LT(shrink, 5e-3 * 2.0) << "the ridge should shrink a well-conditioned direction by about 1e-3";
+  for (size_t i = 0; i < tiny.size(); ++i) shrink = std::max(shrink, std::abs(tiny[i] / 1e-4 - t.hr[i] / 0.05));
+  EXPECT_LT(shrink, 1e-2 * 20) << "the ridge should shrink a well-conditioned direction by about 1e-3 (R/a is ~20)";
   double prev = -1;
   for (double eps : {0.02, 0.01, 0.005}) {
     const std::vector<float> y = added(eps, 0);
@@ -97,72 +103,124 @@ TEST(RestTangents, CorrectionIsFirstOrderExactAndFadesForLargePoses) {
     if (prev > 0) EXPECT_GT(prev / err, 20.0) << "eps " << eps << ": the remainder should fall like eps^5 (32x)";
     prev = err;
   }
-  // fade = 0.05: at ‖c‖ = 1 the factor is e^-160000.
+  // fade = 0.2: at ‖c‖ = 1.1 the factor is e^-915.
   for (float v : added(1.0, 0.5)) EXPECT_EQ(v, 0.0f);
 }
 
-TEST(RestTangents, ValidationNamesTheProblem) {
-  const int N = 10, M = 4;
-  RestTangents t = two_shapes(N, M, 1);
-  validate_rest_tangents(t, N, M, "x");
-  RestTangents bad = t;
-  bad.hr.pop_back();
-  EXPECT_HAS(error_of([&] { validate_rest_tangents(bad, N, M, "x"); }), "HR residuals have");
-  bad = t;
-  bad.shapes[1] = "a";
-  EXPECT_HAS(error_of([&] { validate_rest_tangents(bad, N, M, "x"); }), "repeated");
-  bad = t;
-  bad.lr[3] = std::nanf("");
-  EXPECT_HAS(error_of([&] { validate_rest_tangents(bad, N, M, "x"); }), "not finite");
-  bad = t;
-  bad.fade = 0;
-  EXPECT_HAS(error_of([&] { validate_rest_tangents(bad, N, M, "x"); }), "fade");
+// One shape with samples at 0.01 and 0.04: through (0, 0), (a_k, R_k),
+// linear between them, held beyond the last, the first segment's line
+// below 0; all times φ(|c|).
+TEST(RestCorrectives, InBetweensInterpolateAndNeverExtrapolate) {
+  const int N = 30, M = 5;
+  RestCorrectives t;
+  t.shapes = {"s"};
+  t.amplitudes = {{0.01f, 0.04f}};
+  t.lr = random_values(3 * size_t(N), 3, 1.0f);
+  t.hr = random_values(2 * 3 * size_t(M), 4, 0.5f);
+  const RestCorrection corr(t, N, M);
+  const size_t M3 = 3 * size_t(M);
+  for (double w : {-0.005, 0.005, 0.01, 0.025, 0.04, 0.06, 0.3}) {
+    std::vector<float> x(3 * size_t(N)), y(M3, 0.0f);
+    for (size_t i = 0; i < x.size(); ++i) x[i] = float(w * t.lr[i]);
+    const double v = corr.coefficients(x.data())[0];
+    EXPECT_NEAR(v, w, std::abs(w) * 2e-3 + 1e-9);
+    corr.apply(x.data(), y.data());
+    const double phi = rest_fade(std::abs(v), t.fade);
+    double r1 = 0, r2 = 0;  // weights of R_1 and R_2
+    if (v <= 0.01) r1 = v / 0.01;
+    else if (v >= 0.04) r2 = 1;
+    else r1 = (0.04 - v) / 0.03, r2 = (v - 0.01) / 0.03;
+    double worst = 0;
+    for (size_t i = 0; i < M3; ++i)
+      worst = std::max(worst, std::abs(y[i] - phi * (r1 * t.hr[i] + r2 * t.hr[M3 + i])));
+    EXPECT_LT(worst, 1e-5) << "w = " << w;
+  }
 }
 
-class RestTangentModels : public fixtures::ScratchSuite<RestTangentModels> {
+TEST(RestCorrectives, ValidationNamesTheProblem) {
+  const int N = 10, M = 4;
+  RestCorrectives t = two_shapes(N, M, 1);
+  validate_rest_correctives(t, N, M, "x");
+  RestCorrectives bad = t;
+  bad.hr.pop_back();
+  EXPECT_HAS(error_of([&] { validate_rest_correctives(bad, N, M, "x"); }), "HR residuals have");
+  bad = t;
+  bad.shapes[1] = "a";
+  EXPECT_HAS(error_of([&] { validate_rest_correctives(bad, N, M, "x"); }), "repeated");
+  bad = t;
+  bad.lr[3] = std::nanf("");
+  EXPECT_HAS(error_of([&] { validate_rest_correctives(bad, N, M, "x"); }), "not finite");
+  bad = t;
+  bad.fade = 0;
+  EXPECT_HAS(error_of([&] { validate_rest_correctives(bad, N, M, "x"); }), "fade");
+  bad = t;
+  bad.amplitudes[0] = {0.02f, 0.01f};
+  EXPECT_HAS(error_of([&] { validate_rest_correctives(bad, N, M, "x"); }), "positive and increasing");
+}
+
+class RestCorrectiveModels : public fixtures::ScratchSuite<RestCorrectiveModels> {
  public:
-  static constexpr const char* kScratch = "facesr_rest_tangents_";
+  static constexpr const char* kScratch = "facesr_rest_correctives_";
 };
 
-std::shared_ptr<SrModel> model_with_tangents(uint32_t seed) {
+std::shared_ptr<SrModel> model_with_correctives(uint32_t seed) {
   auto m = fixtures::random_model(true, true, seed, true, true);
-  m->rest_tangents = two_shapes(m->num_lr, m->num_hr, seed);
+  m->rest_correctives = two_shapes(m->num_lr, m->num_hr, seed);
   return m;
 }
 
-TEST_F(RestTangentModels, ModelFileRoundTripsTheTangentsAndRefusesBadOnes) {
-  const auto m = model_with_tangents(31);
-  m->rest_tangents.fade = 0.07;
+TEST_F(RestCorrectiveModels, ModelFileRoundTripsTheCorrectivesAndRefusesBadOnes) {
+  const auto m = model_with_correctives(31);
+  m->rest_correctives.fade = 0.07;
+  m->rest_correctives.amplitudes[1] = {0.01f, 0.05f};  // two samples: one more residual field
+  const auto extra = random_values(3 * size_t(m->num_hr), 7, 0.5f);
+  m->rest_correctives.hr.insert(m->rest_correctives.hr.end(), extra.begin(), extra.end());
   save_sr_model(path("t.fsm"), *m);
   const SrModel r = load_sr_model(path("t.fsm"));
-  EXPECT_EQ(r.rest_tangents.shapes, m->rest_tangents.shapes);
-  EXPECT_EQ(r.rest_tangents.amplitudes, m->rest_tangents.amplitudes);
-  EXPECT_EQ(r.rest_tangents.lr, m->rest_tangents.lr);
-  EXPECT_EQ(r.rest_tangents.hr, m->rest_tangents.hr);
-  EXPECT_EQ(r.rest_tangents.fade, 0.07);
-  // Without tangents the file has none (and version-2 files, such as the
+  EXPECT_EQ(r.rest_correctives.shapes, m->rest_correctives.shapes);
+  EXPECT_EQ(r.rest_correctives.amplitudes, m->rest_correctives.amplitudes);
+  EXPECT_EQ(r.rest_correctives.lr, m->rest_correctives.lr);
+  EXPECT_EQ(r.rest_correctives.hr, m->rest_correctives.hr);
+  EXPECT_EQ(r.rest_correctives.fade, 0.07);
+  EXPECT_EQ(r.rest_correctives.samples(), 3);
+  // Without correctives the file has none (and version-2 files, such as the
   // shipped procedural model, still load: test_model_cli).
   auto plain = *m;
-  plain.rest_tangents = {};
+  plain.rest_correctives = {};
   save_sr_model(path("plain.fsm"), plain);
-  EXPECT_TRUE(load_sr_model(path("plain.fsm")).rest_tangents.empty());
+  EXPECT_TRUE(load_sr_model(path("plain.fsm")).rest_correctives.empty());
+
+  // A version-3 file (correctives in an earlier form) is refused by name,
+  // even with a valid checksum; version 2 is read.
+  for (uint32_t version : {3u, 2u}) {
+    std::string bytes = fixtures::read_text(path("plain.fsm"));
+    std::memcpy(&bytes[8], &version, 4);
+    if (version == 2) bytes.erase(bytes.size() - 24, 16);  // no corrective arrays (two empty vectors)
+    const uint64_t sum = fnv1a64(bytes.data(), bytes.size() - 8);
+    std::memcpy(&bytes[bytes.size() - 8], &sum, 8);
+    std::ofstream(path("v.fsm"), std::ios::binary) << bytes;
+    if (version == 3)
+      EXPECT_HAS(error_of([&] { load_sr_model(path("v.fsm")); }), "model format version 3 is not supported");
+    else
+      EXPECT_TRUE(load_sr_model(path("v.fsm")).rest_correctives.empty());
+  }
 
   auto bad = *m;
-  bad.rest_tangents.lr.resize(5);
+  bad.rest_correctives.lr.resize(5);
   EXPECT_HAS(error_of([&] { save_sr_model(path("bad.fsm"), bad); }), "LR directions have 5 values");
   EXPECT_FALSE(fs::exists(path("bad.fsm")));
-  // A blend is another network: its tangents must be measured again.
+  // A blend is another network: its correctives must be measured again.
   EXPECT_HAS(error_of([&] { blend_sr_models(*m, plain, 0.5, "blend"); }), "fit them again");
 }
 
 // LibTorch, the C++ reference and the OpenCL kernels give the same corrected
 // output, and it differs from the network alone by the correction.
-TEST_F(RestTangentModels, EveryInferencePathAddsTheSameCorrection) {
-  const auto m = model_with_tangents(41);
+TEST_F(RestCorrectiveModels, EveryInferencePathAddsTheSameCorrection) {
+  const auto m = model_with_correctives(41);
   auto plain = std::make_shared<SrModel>(*m);
-  plain->rest_tangents = {};
-  const RestTangentCorrection corr(m->rest_tangents, m->num_lr, m->num_hr);
-  const auto& t = m->rest_tangents;
+  plain->rest_correctives = {};
+  const RestCorrection corr(m->rest_correctives, m->num_lr, m->num_hr);
+  const auto& t = m->rest_correctives;
   const int N = m->num_lr, M = m->num_hr;
   auto cpu = make_cpu_inference(m), cpu_plain = make_cpu_inference(plain), cl = make_cl_inference(m);
   TorchPredictor torch_pred(*m);
@@ -189,7 +247,7 @@ TEST_F(RestTangentModels, EveryInferencePathAddsTheSameCorrection) {
   profiled->infer(x.data(), y.data());
   const auto p = profiled->last_profile();
   ASSERT_FALSE(p.empty());
-  EXPECT_EQ(p.back().first, "rest tangents");
+  EXPECT_EQ(p.back().first, "rest correctives");
   EXPECT_GE(p.back().second, 0.0);
 }
 
@@ -197,9 +255,9 @@ TEST_F(RestTangentModels, EveryInferencePathAddsTheSameCorrection) {
 // target are linear in the weights (d_s, t_s per unit weight), so after the
 // fit the corrected model matches the target to first order, also on frames
 // the fit never saw.
-class RestTangentFitCli : public fixtures::ScratchSuite<RestTangentFitCli> {
+class RestCorrectiveFitCli : public fixtures::ScratchSuite<RestCorrectiveFitCli> {
  public:
-  static constexpr const char* kScratch = "facesr_rest_tangent_fit_";
+  static constexpr const char* kScratch = "facesr_rest_corrective_fit_";
 
  protected:
   static void SetUpTestSuite() {
@@ -282,27 +340,39 @@ class RestTangentFitCli : public fixtures::ScratchSuite<RestTangentFitCli> {
   static inline std::vector<std::vector<float>> d_, t_;
 };
 
-TEST_F(RestTangentFitCli, FitsOnTrainingFramesAndCorrectsNearRestPosesToFirstOrder) {
-  const auto r = run("model tangents " + q("m.fsm") + " --dataset " + q("data") + " -o " + q("t.fsm") + " --json");
+TEST_F(RestCorrectiveFitCli, FitsOnTrainingFramesAndReproducesWhatItMeasured) {
+  const auto r =
+      run("model correctives " + q("m.fsm") + " --dataset " + q("data") + " -o " + q("t.fsm") + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j.at("rest_tangents").get<int>(), 2);
+  EXPECT_EQ(j.at("rest_correctives").get<int>(), 2);
+  EXPECT_EQ(j.at("samples").get<int>(), 6);
   EXPECT_EQ(j.at("unmeasured"), nlohmann::json::array({"shapeC"}));
   const auto& shapes = j.at("shapes");
   ASSERT_EQ(shapes.size(), 2u);
-  EXPECT_EQ(shapes[0].at("shape"), "shapeA");
-  EXPECT_EQ(shapes[0].at("frame").get<int>(), 2) << "the smallest weight not held out for validation";
-  EXPECT_EQ(shapes[1].at("shape"), "shapeB");
-  EXPECT_EQ(shapes[1].at("frame").get<int>(), 3);
-  for (const auto& s : shapes)
-    EXPECT_LT(s.at("corrected_error_cm").get<double>(), 0.03 * s.at("network_error_cm").get<double>()) << s;
+  // By weight; frame 9 (A at 0.001) is held out for validation, frame 4 has
+  // two shapes, frame 5 (C at 0.5) is above --max-weight.
+  const std::vector<std::pair<std::string, std::vector<int>>> expected = {{"shapeA", {2, 1, 6}},
+                                                                          {"shapeB", {3, 10, 7}}};
+  for (size_t s = 0; s < 2; ++s) {
+    EXPECT_EQ(shapes[s].at("shape"), expected[s].first);
+    const auto& samples = shapes[s].at("samples");
+    ASSERT_EQ(samples.size(), 3u) << shapes[s];
+    for (size_t k = 0; k < 3; ++k) {
+      EXPECT_EQ(samples[k].at("frame").get<int>(), expected[s].second[k]) << samples[k];
+      EXPECT_LT(samples[k].at("corrected_error_cm").get<double>(),
+                0.03 * samples[k].at("network_error_cm").get<double>())
+          << samples[k];
+    }
+  }
 
   const SrModel m = load_sr_model(path("t.fsm"));
-  ASSERT_EQ(m.rest_tangents.count(), 2);
-  EXPECT_EQ(m.training.at("rest_tangents").at("shapes").size(), 2u);
-  // Frames the fit did not use: a combination, the held-out weight, the test split's.
+  ASSERT_EQ(m.rest_correctives.count(), 2);
+  EXPECT_EQ(m.training.at("rest_correctives").at("shapes").size(), 2u);
+  // Frames the fit did not use: a combination, the held-out weight, the
+  // test split's, below B's first sample, between A's samples.
   for (const std::array<float, 3>& w : std::vector<std::array<float, 3>>{
-           {0.01f, 0.01f, 0}, {0.001f, 0, 0}, {0.003f, 0, 0}, {0, 0.006f, 0}}) {
+           {0.01f, 0.01f, 0}, {0.001f, 0, 0}, {0.003f, 0, 0}, {0, 0.006f, 0}, {0.03f, 0, 0}}) {
     const double before = error_cm(*model_, w), after = error_cm(m, w);
     EXPECT_LT(after, 0.15 * before) << w[0] << ", " << w[1] << ": " << before << " -> " << after << " cm";
   }
@@ -310,8 +380,8 @@ TEST_F(RestTangentFitCli, FitsOnTrainingFramesAndCorrectsNearRestPosesToFirstOrd
   EXPECT_NEAR(error_cm(m, {0.6f, 0.3f, 0}), error_cm(*model_, {0.6f, 0.3f, 0}), 1e-6);
 }
 
-TEST_F(RestTangentFitCli, BadInputFailsWithAMessageAndNoOutput) {
-  auto r = run("model tangents " + q("m.fsm") + " --dataset " + q("data") + " --max-weight 0.0001 -o " + q("x.fsm"));
+TEST_F(RestCorrectiveFitCli, BadInputFailsWithAMessageAndNoOutput) {
+  auto r = run("model correctives " + q("m.fsm") + " --dataset " + q("data") + " --max-weight 0.0001 -o " + q("x.fsm"));
   EXPECT_NE(r.status, 0);
   EXPECT_HAS(r.err, "no training frame has a single blendshape");
   EXPECT_FALSE(fs::exists(path("x.fsm")));
@@ -319,12 +389,12 @@ TEST_F(RestTangentFitCli, BadInputFailsWithAMessageAndNoOutput) {
   SrModel other = *model_;
   other.rig_checksum ^= 1;
   save_sr_model(path("other.fsm"), other);
-  r = run("model tangents " + q("other.fsm") + " --dataset " + q("data") + " -o " + q("x.fsm"));
+  r = run("model correctives " + q("other.fsm") + " --dataset " + q("data") + " -o " + q("x.fsm"));
   EXPECT_NE(r.status, 0);
   EXPECT_HAS(r.err, "the dataset was made from rig");
   EXPECT_FALSE(fs::exists(path("x.fsm")));
 
-  r = run("model tangents " + q("m.fsm") + " --dataset " + q("nowhere") + " -o " + q("x.fsm"));
+  r = run("model correctives " + q("m.fsm") + " --dataset " + q("nowhere") + " -o " + q("x.fsm"));
   EXPECT_NE(r.status, 0);
   EXPECT_HAS(r.err, "manifest.json");
   EXPECT_FALSE(fs::exists(path("x.fsm")));
