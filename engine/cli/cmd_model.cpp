@@ -1,8 +1,8 @@
 // `facesr model`: inspect a trained model file, set zero_rest on one after
 // training (how the shipped ICT model was made: see docs/network.md), and
 // carry a model over to a rebuilt rig whose geometry it still matches, and
-// blend the weights of two fine-tunes of one model, and measure its
-// near-rest correctives on a dataset.
+// blend the weights of two fine-tunes of one model, smooth what it adds to
+// the embedded surface, and measure its near-rest correctives on a dataset.
 #include <algorithm>
 #include <cstdio>
 
@@ -27,7 +27,10 @@ nlohmann::json model_summary(const SrModel& m, const std::string& path) {
   return {{"model", path},          {"kind", m.arch.kind},          {"rig_name", m.rig_name},
           {"num_lr", m.num_lr},     {"num_hr", m.num_hr},           {"parameters", parameters},
           {"zero_rest", m.arch.zero_rest}, {"embedded_skip", m.arch.embedded_skip},
-          {"rest_correctives", m.rest_correctives.count()}, {"units", "cm"}};
+          {"rest_correctives", m.rest_correctives.count()},
+          {"residual_smoothing", m.residual_smoothing.empty() ? nlohmann::json(nullptr)
+                                                              : residual_smoothing_to_json(m.residual_smoothing)},
+          {"units", "cm"}};
 }
 
 }  // namespace
@@ -155,6 +158,40 @@ void register_model(CLI::App& app) {
     } else {
       std::printf("%s: (1 - %g)·%s + %g·%s\n", bl.out.c_str(), bl.t, bl.a.c_str(), bl.t, bl.b.c_str());
     }
+  });
+
+  struct SmoothArgs {
+    std::string in, out;
+    ResidualSmoothing s;
+    bool json = false;
+  };
+  static SmoothArgs sm;
+  auto* sub = model->add_subcommand(
+      "smooth",
+      "Write a copy that smooths what the network adds to the embedded surface: K umbrella steps of size lambda "
+      "over the surface's edges (not in the paper; see docs/network.md)");
+  sub->add_option("model", sm.in, "Trained model file (.fsm, kind sr, with the embedded skip)")->required();
+  sub->add_option("--lambda", sm.s.lambda, "Step size in (0, 1] (default 0.5)");
+  sub->add_option("--iterations", sm.s.iterations, "Steps K (0 removes the smoothing)")->required();
+  sub->add_option("-o,--out", sm.out, "Output model file")->required();
+  sub->add_flag("--json", sm.json,
+                "Print a JSON summary of the written model (residual_smoothing: lambda, iterations)");
+  add_action(sub, [] {
+    validate_residual_smoothing(sm.s, "model smooth");
+    SrModel m = load_sr_model(sm.in);
+    require(m.arch.kind == "sr" && m.arch.embedded_skip,
+            sm.in + ": residual smoothing applies to the super-resolution network with the embedded skip");
+    // Correctives measure what the output before them misses; smoothing changes it.
+    require(m.rest_correctives.empty(), sm.in + ": the model has near-rest correctives, fitted without this "
+                                                "smoothing; smooth the model they were fitted to, then fit them again "
+                                                "(`facesr model correctives`)");
+    m.residual_smoothing = sm.s;
+    m.training["residual_smoothing"] = residual_smoothing_to_json(sm.s);
+    save_sr_model(sm.out, m);  // written to a temporary name, then renamed
+    if (sm.json)
+      std::printf("%s\n", model_summary(m, sm.out).dump(2).c_str());
+    else
+      std::printf("%s: residual smoothing, %d steps of %g\n", sm.out.c_str(), sm.s.iterations, sm.s.lambda);
   });
 
   struct CorrectiveArgs {

@@ -15,6 +15,7 @@
 #include "core/progress.h"
 #include "runtime/sr_inference.h"
 #include "runtime/rest_subtracted.h"
+#include "runtime/residual_smoothed.h"
 #include "runtime/rest_corrected.h"
 
 namespace facesr {
@@ -416,7 +417,7 @@ class ClInference final : public SrInference {
 std::unique_ptr<SrInference> make_cl_inference(std::shared_ptr<const SrModel> model, const ClInferenceOptions& opt) {
   require(model != nullptr, "inference: no model");
   std::unique_ptr<SrInference> net = std::make_unique<ClInference>(model, opt);
-  return add_rest_correctives(subtract_rest_output(std::move(net), *model), *model);
+  return add_rest_correctives(smooth_residual(subtract_rest_output(std::move(net), *model), *model), *model);
 }
 
 }  // namespace facesr

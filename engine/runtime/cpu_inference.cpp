@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "runtime/sr_inference.h"
 #include "runtime/rest_subtracted.h"
+#include "runtime/residual_smoothed.h"
 #include "runtime/rest_corrected.h"
 
 namespace facesr {
@@ -135,7 +136,7 @@ class CpuInference final : public SrInference {
 std::unique_ptr<SrInference> make_cpu_inference(std::shared_ptr<const SrModel> model) {
   require(model != nullptr, "inference: no model");
   std::unique_ptr<SrInference> net = std::make_unique<CpuInference>(model);
-  return add_rest_correctives(subtract_rest_output(std::move(net), *model), *model);
+  return add_rest_correctives(smooth_residual(subtract_rest_output(std::move(net), *model), *model), *model);
 }
 
 }  // namespace facesr

@@ -1,5 +1,5 @@
 #pragma once
-// A trained super-resolution model (".fsm" file, version 4): the
+// A trained super-resolution model (".fsm" file, version 5): the
 // architecture, the rig it belongs to (by checksum, so a model cannot be
 // paired with another rig), the rest-pose neighbourhoods it was trained with,
 // and every parameter tensor. Read by evaluation and by the runtime without
@@ -8,15 +8,18 @@
 //
 //   offset  size  field
 //   0       8     magic "FACESRSM"
-//   8       4     u32 format version (= 4; version 2, still read, has no
-//                   near-rest correctives; version 3 had them in another
-//                   form and is not read; version 1 had no surface embedding)
-//   12            string header: JSON {"format": "facesr-sr-model", "version": 4,
+//   8       4     u32 format version (= 5; versions 4 and 2, still read,
+//                   have no residual smoothing, and 2 no near-rest
+//                   correctives; version 3 had them in another form and is
+//                   not read; version 1 had no surface embedding)
+//   12            string header: JSON {"format": "facesr-sr-model", "version": 5,
 //                   "units": "cm", "rig_name", "rig_checksum", "num_lr" (N),
 //                   "num_hr" (M), "architecture": {...}, "training": {...},
 //                   and "rest_correctives": {"shapes", "amplitudes" (a list
 //                   per shape), "fade", "ridge"} when the model has them
-//                   (sr/rest_correctives.h)}
+//                   (sr/rest_correctives.h), and "residual_smoothing":
+//                   {"operator": "umbrella", "lambda", "iterations"} when it
+//                   has that (sr/residual_smoothing.h)}
 //                 geometry (SrGeometry, k values from the architecture):
 //                   vector<f32> lr_rest (N×3), hr_rest (M×3),
 //                               hr_rest_lr_frame (M×3)
@@ -48,6 +51,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sr/sr_architecture.h"
+#include "sr/residual_smoothing.h"
 #include "sr/rest_correctives.h"
 #include "sr/sr_geometry.h"
 
@@ -67,6 +71,7 @@ struct SrModel {
   SrGeometry geometry;
   std::vector<SrTensor> tensors;
   RestCorrectives rest_correctives;  // empty: none (the network alone)
+  ResidualSmoothing residual_smoothing;  // empty (0 iterations): none
   nlohmann::json training = nlohmann::json::object();  // how it was trained (free-form record)
 
   // The tensor with this name; Error if absent.

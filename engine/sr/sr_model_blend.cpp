@@ -27,6 +27,9 @@ SrModel blend_sr_models(const SrModel& a, const SrModel& b, double t, const std:
   require(a.rest_correctives.empty() && b.rest_correctives.empty(),
           context + ": a model has near-rest correctives; blend the models without them, then fit them again "
                     "(`facesr model correctives`)");
+  require(a.residual_smoothing.lambda == b.residual_smoothing.lambda &&
+              a.residual_smoothing.iterations == b.residual_smoothing.iterations,
+          context + ": the models have different residual smoothing (`facesr model smooth` both the same way)");
   require(a.tensors.size() == b.tensors.size(), context + ": the models have different parameter counts");
   SrModel out = a;
   for (size_t i = 0; i < a.tensors.size(); ++i) {

@@ -19,9 +19,11 @@ namespace {
 
 const char kMagic[8] = {'F', 'A', 'C', 'E', 'S', 'R', 'S', 'M'};
 // Version 2 added the surface embedding (embed_nodes, embed_weights),
-// version 4 the near-rest correctives. Version 3 (one sample per shape,
-// "rest_tangents"; one development commit) is not read.
-constexpr uint32_t kVersion = 4;
+// version 4 the near-rest correctives, version 5 the residual smoothing (a
+// header entry only: a version-4 reader would ignore it and give another
+// surface). Version 3 (one sample per shape, "rest_tangents"; one
+// development commit) is not read.
+constexpr uint32_t kVersion = 5;
 
 template <class T>
 void check_size(const std::vector<T>& v, size_t n, const std::string& ctx, const char* what) {
@@ -49,6 +51,7 @@ json header_json(const SrModel& m) {
 json header_with_correctives(const SrModel& m) {
   json h = header_json(m);
   if (!m.rest_correctives.empty()) h["rest_correctives"] = rest_correctives_to_json(m.rest_correctives);
+  if (!m.residual_smoothing.empty()) h["residual_smoothing"] = residual_smoothing_to_json(m.residual_smoothing);
   return h;
 }
 
@@ -121,6 +124,12 @@ void validate_sr_model(const SrModel& m, const std::string& ctx) {
     require(m.arch.kind == "sr", ctx + ": rest correctives apply to the super-resolution network only");
     validate_rest_correctives(m.rest_correctives, m.num_lr, m.num_hr, ctx);
   }
+  validate_residual_smoothing(m.residual_smoothing, ctx);
+  if (!m.residual_smoothing.empty()) {
+    require(m.arch.kind == "sr" && m.arch.embedded_skip,
+            ctx + ": residual smoothing needs the super-resolution network with the embedded skip");
+    require(!g.hr_tris.empty(), ctx + ": residual smoothing needs the surface triangles (geometry.hr_tris)");
+  }
 }
 
 void save_sr_model(const std::string& path, const SrModel& m) {
@@ -170,10 +179,10 @@ SrModel load_sr_model(const std::string& path) {
           path + ": checksum mismatch: the file is corrupt or truncated");
   ByteReader r(bytes.data() + 8, bytes.size() - 16, path);
   const auto version = r.get<uint32_t>("format version");
-  require(version == 2 || version == kVersion, path + ": model format version " + std::to_string(version) +
-                                                   " is not supported (this build reads versions 2 and " +
-                                                   std::to_string(kVersion) + "; remake a version-3 model with "
-                                                   "`facesr model correctives`)");
+  require(version == 2 || version == 4 || version == kVersion,
+          path + ": model format version " + std::to_string(version) +
+              " is not supported (this build reads versions 2, 4 and " + std::to_string(kVersion) +
+              "; remake a version-3 model with `facesr model correctives`)");
   json h;
   try {
     h = json::parse(r.get_string("header"));
@@ -227,6 +236,8 @@ SrModel load_sr_model(const std::string& path) {
     require(!rt.empty() || (rt.lr.empty() && rt.hr.empty()),
             at + "rest corrective arrays without a \"rest_correctives\" header entry");
   }
+  if (version >= 5 && h.contains("residual_smoothing"))
+    m.residual_smoothing = residual_smoothing_from_json(h["residual_smoothing"], path);
   require(r.remaining() == 0, at + std::to_string(r.remaining()) + " unexpected bytes before the checksum");
   validate_sr_model(m, path);
   return m;

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "sr/residual_smoothing.h"
 #include "sr/rest_correctives.h"
 #include "train/model_export.h"
 #include "train/sr_network.h"
@@ -14,11 +15,14 @@ struct TorchPredictor::Impl {
   SrNetwork sr{nullptr};
   VaeNetwork vae{nullptr};
   int64_t N = 0;
+  std::unique_ptr<ResidualSmoother> smoother;  // null: none
   std::unique_ptr<RestCorrection> correction;  // null: none
 };
 
 TorchPredictor::TorchPredictor(const SrModel& m) : impl_(std::make_unique<Impl>()) {
   impl_->N = m.num_lr;
+  if (!m.residual_smoothing.empty())
+    impl_->smoother = std::make_unique<ResidualSmoother>(m.residual_smoothing, m.geometry);
   if (!m.rest_correctives.empty())
     impl_->correction = std::make_unique<RestCorrection>(m.rest_correctives, m.num_lr, m.num_hr);
   if (m.arch.kind == "sr") {
@@ -47,11 +51,15 @@ torch::Tensor TorchPredictor::predict(const torch::Tensor& lr, int batch) {
     out.push_back(impl_->sr ? impl_->sr->forward(x).hr_disp : impl_->vae->forward(x, false).hr_disp);
   }
   torch::Tensor y = torch::cat(out, 0);
-  if (impl_->correction) {
-    // The same host arithmetic as the runtime's (runtime/rest_corrected.h).
+  if (impl_->smoother || impl_->correction) {
+    // The same host arithmetic as the runtime's (runtime/residual_smoothed.h,
+    // runtime/rest_corrected.h), in that order.
     y = y.to(torch::kCPU).contiguous();
     const auto x = lr.to(torch::kCPU, torch::kFloat32).contiguous();
-    for (int64_t f = 0; f < y.size(0); ++f) impl_->correction->apply(x[f].data_ptr<float>(), y[f].data_ptr<float>());
+    for (int64_t f = 0; f < y.size(0); ++f) {
+      if (impl_->smoother) impl_->smoother->apply(x[f].data_ptr<float>(), y[f].data_ptr<float>());
+      if (impl_->correction) impl_->correction->apply(x[f].data_ptr<float>(), y[f].data_ptr<float>());
+    }
   }
   return y;
 }
