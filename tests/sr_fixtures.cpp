@@ -1,5 +1,9 @@
 #include "sr_fixtures.h"
 
+#include <algorithm>
+#include <cmath>
+#include <random>
+
 #include "rig/rig_io.h"
 #include "sr/sr_geometry.h"
 #include "test_support.h"
@@ -41,6 +45,20 @@ torch::Tensor lr_frames(const SrModel& m, int F) {
   for (int f = 0; f < F; ++f)
     out.push_back(0.3 * torch::sin(x * (0.4 + 0.1 * f) + f) + 0.02 * torch::randn({m.num_lr, 3}));
   return torch::stack(out);
+}
+
+std::vector<float> random_values(size_t n, uint32_t seed, float scale) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> g(0.0f, scale);
+  std::vector<float> v(n);
+  for (float& x : v) x = g(rng);
+  return v;
+}
+
+double max_abs_diff(const std::vector<float>& a, const std::vector<float>& b) {
+  double d = 0;
+  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, double(std::abs(a[i] - b[i])));
+  return d;
 }
 
 }  // namespace facesr::fixtures

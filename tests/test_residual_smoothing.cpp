@@ -8,7 +8,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <random>
 
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
@@ -29,20 +28,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using fixtures::error_of;
-
-std::vector<float> random_field(size_t n, uint32_t seed, float scale) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<float> g(0.0f, scale);
-  std::vector<float> v(n);
-  for (float& x : v) x = g(rng);
-  return v;
-}
-
-double max_abs_diff(const std::vector<float>& a, const std::vector<float>& b) {
-  double d = 0;
-  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, double(std::abs(a[i] - b[i])));
-  return d;
-}
+using fixtures::max_abs_diff;
+using fixtures::random_values;
 
 // The embedded displacement of the surface (M × 3) for an LR displacement.
 std::vector<float> embedded(const SrGeometry& g, const std::vector<float>& x) {
@@ -81,7 +68,7 @@ TEST(ResidualSmoothing, MatchesTheDenseOperatorAroundTheEmbeddedSurface) {
   for (int i = 0; i < M; ++i)
     P.row(i) += s.lambda * (A.row(i) / A.row(i).sum() - Eigen::MatrixXd::Identity(M, M).row(i));
 
-  const auto x = random_field(3 * size_t(N), 1, 0.3f), y = random_field(3 * size_t(M), 2, 0.3f);
+  const auto x = random_values(3 * size_t(N), 1, 0.3f), y = random_values(3 * size_t(M), 2, 0.3f);
   const auto e = embedded(g, x);
   Eigen::MatrixXd r(M, 3);
   for (int v = 0; v < M; ++v)
@@ -119,7 +106,7 @@ TEST(ResidualSmoothing, NeverAmplifiesAndSmoothsMoreWithEveryStep) {
   const SrGeometry& g = m->geometry;
   // e = 0: the output is the residual.
   const std::vector<float> x(3 * size_t(g.num_lr), 0.0f);
-  const auto y = random_field(3 * size_t(g.num_hr), 9, 1.0f);
+  const auto y = random_values(3 * size_t(g.num_hr), 9, 1.0f);
   double prev_rough = roughness(g, y);
   float prev_max = 0;
   for (float v : y) prev_max = std::max(prev_max, std::abs(v));
@@ -232,8 +219,8 @@ TEST_F(ResidualSmoothingModels, EveryInferencePathSmoothesTheSameWay) {
   // Profiled runs time it as a stage of its own, before the correctives.
   m->rest_correctives.shapes = {"a"};
   m->rest_correctives.amplitudes = {{0.05f}};
-  m->rest_correctives.lr = random_field(3 * size_t(N), 4, 1.0f);
-  m->rest_correctives.hr = random_field(3 * size_t(M), 5, 0.5f);
+  m->rest_correctives.lr = random_values(3 * size_t(N), 4, 1.0f);
+  m->rest_correctives.hr = random_values(3 * size_t(M), 5, 0.5f);
   ClInferenceOptions o;
   o.profile = true;
   auto profiled = make_cl_inference(m, o);
@@ -268,8 +255,8 @@ TEST_F(ResidualSmoothingModels, ModelSmoothCliWritesItAndRefusesBadInput) {
   auto with = *m;
   with.rest_correctives.shapes = {"a"};
   with.rest_correctives.amplitudes = {{0.05f}};
-  with.rest_correctives.lr = random_field(3 * size_t(m->num_lr), 4, 1.0f);
-  with.rest_correctives.hr = random_field(3 * size_t(m->num_hr), 5, 0.5f);
+  with.rest_correctives.lr = random_values(3 * size_t(m->num_lr), 4, 1.0f);
+  with.rest_correctives.hr = random_values(3 * size_t(m->num_hr), 5, 0.5f);
   save_sr_model(path("c.fsm"), with);
   r = run("model smooth " + q("c.fsm") + " --iterations 2 -o " + q("x.fsm"));
   EXPECT_NE(r.status, 0);

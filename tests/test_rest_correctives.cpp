@@ -9,7 +9,6 @@
 #include <cstring>
 #include <fstream>
 #include <filesystem>
-#include <random>
 
 #include <nlohmann/json.hpp>
 
@@ -32,14 +31,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using fixtures::error_of;
-
-std::vector<float> random_values(size_t n, uint32_t seed, float scale) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<float> g(0.0f, scale);
-  std::vector<float> v(n);
-  for (float& x : v) x = g(rng);
-  return v;
-}
+using fixtures::max_abs_diff;
+using fixtures::random_values;
 
 // Two shapes, one sample each at weight 0.05 (linear up to there).
 RestCorrectives two_shapes(int N, int M, uint32_t seed) {
@@ -55,12 +48,6 @@ std::vector<float> combine(const RestCorrectives& t, double a, double b, int N) 
   std::vector<float> x(3 * size_t(N));
   for (size_t i = 0; i < x.size(); ++i) x[i] = float(a * t.lr[i] + b * t.lr[x.size() + i]);
   return x;
-}
-
-double max_abs_diff(const std::vector<float>& a, const std::vector<float>& b) {
-  double d = 0;
-  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, double(std::abs(a[i] - b[i])));
-  return d;
 }
 
 TEST(RestCorrectives, CoefficientsRecoverTheWeightsOfACombination) {
