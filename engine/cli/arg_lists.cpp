@@ -1,5 +1,6 @@
 #include "cli/arg_lists.h"
 
+#include <cmath>
 #include <cstdlib>
 
 #include "core/error.h"
@@ -28,6 +29,17 @@ std::vector<int> int_list(const std::string& s, const std::string& option) {
     require(end && *end == '\0' && v >= 1 && v <= 1 << 20,
             option + ": '" + item + "' is not a positive integer (expected a list like 64,128)");
     out.push_back(int(v));
+  }
+  return out;
+}
+
+std::vector<double> double_list(const std::string& s, const std::string& option) {
+  std::vector<double> out;
+  for (const std::string& item : split_list(s)) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    require(end && *end == '\0' && std::isfinite(v), option + ": '" + item + "' is not a finite number");
+    out.push_back(v);
   }
   return out;
 }

@@ -8,6 +8,7 @@ namespace facesr::cli {
 // Each register_* adds a subcommand and records the action to run when it is
 // the one selected; actions throw facesr::Error on bad input.
 void register_rig(CLI::App& app);
+void register_head(CLI::App& app);
 void register_devices(CLI::App& app);
 void register_render(CLI::App& app);
 void register_perf(CLI::App& app);

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   CLI::App app{"facesr: physics-based facial animation with simulation super-resolution"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "facesr 0.1.0");
+  facesr::cli::register_head(app);
   facesr::cli::register_rig(app);
   facesr::cli::register_perf(app);
   facesr::cli::register_simulate(app);

@@ -36,8 +36,23 @@ void hinge_from_rigid(const Mat3& R, const Vec3& t, Vec3& pivot, Vec3& axis, dou
   }
   // x' = R (x - p) + p  =>  t = (I - R) p. (I - R) is singular along the
   // axis, so take the minimum-norm solution and keep p off-axis-component free.
-  const Mat3 A = Mat3::Identity() - R;
-  pivot = A.completeOrthogonalDecomposition().solve(t);
+  // Its rank must be decided with a threshold: in floating point the null
+  // singular value of I − R comes out near 1e-16 rather than 0, and Eigen's
+  // default (machine epsilon × size) took that for rank 3 on some heads,
+  // putting the pivot 1.8e13 cm down the axis. jawOpen alone does not see
+  // that (a rotation about the axis leaves the pivot in place), but every
+  // other jaw shape's shift (R_s p + t_s − p) then moved the jaw by
+  // kilometres, and the simulation diverged. The nonzero singular values are
+  // 2 sin(angle/2): 1e-9 stands for a hinge of under 1e-7 degrees.
+  Eigen::CompleteOrthogonalDecomposition<Mat3> cod;
+  cod.setThreshold(1e-9);
+  cod.compute(Mat3::Identity() - R);
+  pivot = cod.solve(t);
+}
+
+Vec3 nearest_on_axis(const Vec3& pivot, const Vec3& axis, const Vec3& near) {
+  const Vec3 a = axis.normalized();
+  return pivot + a.dot(near - pivot) * a;
 }
 
 Vec3 hinge_apply(const Vec3& x, const Vec3& pivot, const Vec3& axis, double angle) {

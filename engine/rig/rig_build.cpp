@@ -35,6 +35,18 @@ Jaw fit_jaw(const HeadSource& src) {
   require(open != jaw.shapes.end(), src.name + ": no jawOpen blendshape, cannot find the jaw hinge");
   double angle = 0;
   hinge_from_rigid(open->R, open->t, jaw.pivot, jaw.axis, angle);
+  require(angle * 180.0 / M_PI > 1.0, src.name + ": jawOpen rotates the lower teeth by " +
+                                          std::to_string(angle * 180.0 / M_PI) +
+                                          " degrees; a jaw hinge needs at least 1");
+  // The pivot's place along the axis does not change a hinge, but it is the
+  // point the other jaw shapes' shifts are measured at when they combine
+  // with jawOpen (jaw_transform), so it must lie by the jaw. The minimum-norm
+  // point (nearest the origin) does for heads modelled around the origin,
+  // and rigs built before keep their bytes; a head placed far from the
+  // origin gets the point on the axis beside its lower teeth.
+  const Vec3 teeth_centre = src.teeth_lower.V.colwise().mean().transpose();
+  const Vec3 beside = nearest_on_axis(jaw.pivot, jaw.axis, teeth_centre);
+  if ((beside - jaw.pivot).norm() > kJawPivotSlackCm) jaw.pivot = beside;
   jaw.open_angle_deg = angle * 180.0 / M_PI;
   const auto& teeth = std::find_if(src.jaw_shape_lower_teeth.begin(), src.jaw_shape_lower_teeth.end(),
                                    [](const auto& p) { return p.first == "jawOpen"; })->second;

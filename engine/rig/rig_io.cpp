@@ -10,6 +10,8 @@
 #include "core/binary_io.h"
 #include "core/checksum.h"
 #include "core/error.h"
+#include "core/number_text.h"
+#include "rig/jaw_fit.h"
 
 namespace facesr {
 
@@ -316,6 +318,13 @@ void validate_rig(const Rig& rig, const std::string& context) {
   v.finite("jaw.axis", rig.jaw.axis.data(), 3);
   v.finite("jaw.open_angle_deg", &rig.jaw.open_angle_deg, 1);
   v.finite("jaw.hinge_max_error_cm", &rig.jaw.hinge_max_error_cm, 1);
+  if (rig.teeth_lower.V.rows() > 0 && rig.jaw.pivot.allFinite()) {
+    const Vec3 c = rig.teeth_lower.V.colwise().mean().transpose();
+    const double d = (rig.jaw.pivot - c).norm();
+    v.check(d <= kJawPivotMaxCm, "jaw.pivot",
+            "lies " + number_text(d, 3) + " cm from the lower teeth (a degenerate hinge fit of an older facesr: "
+            "jaw shapes other than jawOpen would move the jaw that far); rebuild the rig");
+  }
   for (const auto& s : rig.jaw.shapes) {
     const std::string p = "jaw shape '" + s.name + "'";
     v.finite(p + " R", s.R.data(), 9);
