@@ -87,6 +87,12 @@ facesr_status facesr_get_embedded_positions(const facesr_context* context, float
   return copy_surface("facesr_get_embedded_positions", context, &FrameResult::embedded, xyz, count);
 }
 
+static_assert(FACESR_FRAME_CONVERGED == int(facesr::StepStatus::Converged) &&
+                  FACESR_FRAME_UNCONVERGED == int(facesr::StepStatus::Unconverged) &&
+                  FACESR_FRAME_RECOVERED == int(facesr::StepStatus::Recovered) &&
+                  FACESR_FRAME_DIVERGED == int(facesr::StepStatus::Diverged),
+              "FACESR_FRAME_* must match facesr::StepStatus");
+
 facesr_status facesr_get_frame_stats(const facesr_context* context, facesr_frame_stats* stats) {
   static const char* fn = "facesr_get_frame_stats";
   if (!context) return null_argument(fn, "context");
@@ -100,6 +106,9 @@ facesr_status facesr_get_frame_stats(const facesr_context* context, facesr_frame
   FACESR_PUT(stats, newton_iterations, r.newton_iterations);
   FACESR_PUT(stats, cg_iterations, r.cg_iterations);
   FACESR_PUT(stats, relative_residual, r.relative_residual);
+  FACESR_PUT(stats, simulation_status, int32_t(r.status));
+  FACESR_PUT(stats, inverted_tets, r.inverted_tets);
+  FACESR_PUT(stats, recoveries, r.recoveries);
   return kOk;
 }
 

@@ -184,7 +184,9 @@ FACESR_API facesr_status facesr_context_reset(facesr_context* context);
 /* ---------------------------------------------------------------- controls */
 /* Controls take effect at the next facesr_step / facesr_step_async. */
 
-/* Blendshape weight in [0, 1]. */
+/* Blendshape weight in [0, 1]. Capture overshoots are tolerated as in the
+   Live Link import: values in [-0.1, 1.1] are clamped into [0, 1]; NaN,
+   infinities and values beyond that are FACESR_ERROR_INVALID_ARGUMENT. */
 FACESR_API facesr_status facesr_set_weight(facesr_context* context, int32_t index, float value);
 FACESR_API facesr_status facesr_set_weight_by_name(facesr_context* context, const char* name, float value);
 /* All weights at once: count must be num_blendshapes; nothing changes if any value is bad. */
@@ -270,7 +272,23 @@ typedef struct facesr_frame_stats {
   int32_t newton_iterations;
   int32_t cg_iterations;
   float relative_residual; /* of the LR solve */
+  /* Added after version 1 of this struct (older callers do not get them).
+     The LR solve's outcome, FACESR_FRAME_*. FACESR_FRAME_DIVERGED: the solve
+     broke down (non-finite forces, a residual above the rest pose's, or a
+     burst of inverted tets) and every recovery failed (a restart from the
+     last good state, control sub-steps, the accurate preset); the positions,
+     normals and embedded positions returned are then the last good frame's,
+     never a broken surface. A game may keep stepping: the next frame starts
+     from that good state. */
+  int32_t simulation_status;
+  int32_t inverted_tets; /* LR tets inverted (det F <= 0) in the solve that was kept */
+  int32_t recoveries;    /* extra solves the recovery ran on this frame (0 normally) */
 } facesr_frame_stats;
+
+#define FACESR_FRAME_CONVERGED 0   /* reached the solver's tolerance */
+#define FACESR_FRAME_UNCONVERGED 1 /* stopped at the iteration cap above tolerance (normal for the real-time preset) */
+#define FACESR_FRAME_RECOVERED 2   /* diverged at first, solved by the recovery */
+#define FACESR_FRAME_DIVERGED 3    /* recovery failed: the last good surface is returned */
 
 FACESR_API facesr_status facesr_get_frame_stats(const facesr_context* context, facesr_frame_stats* stats);
 

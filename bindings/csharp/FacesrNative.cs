@@ -57,6 +57,11 @@ namespace Facesr
         public const int FACESR_INFERENCE_OPENCL = 0;
         public const int FACESR_INFERENCE_CPU = 1;
 
+        public const int FACESR_FRAME_CONVERGED = 0;
+        public const int FACESR_FRAME_UNCONVERGED = 1;
+        public const int FACESR_FRAME_RECOVERED = 2;
+        public const int FACESR_FRAME_DIVERGED = 3;
+
         // ------------------------------------------------------------ status
 
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]

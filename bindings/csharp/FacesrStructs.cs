@@ -112,5 +112,19 @@ namespace Facesr
         public int NewtonIterations;
         public int CgIterations;
         public float RelativeResidual;  // of the LR solve
+        public int SimulationStatus;    // FrameStatus: Diverged means the last good surface was returned
+        public int InvertedTets;        // LR tets inverted in the kept solve
+        public int Recoveries;          // extra solves the recovery ran
+
+        public FrameStatus Status { get { return (FrameStatus)SimulationStatus; } }
+    }
+
+    // FACESR_FRAME_* of capi/facesr.h.
+    public enum FrameStatus
+    {
+        Converged = Native.FACESR_FRAME_CONVERGED,      // reached the solver's tolerance
+        Unconverged = Native.FACESR_FRAME_UNCONVERGED,  // stopped at the iteration cap above tolerance (normal for real time)
+        Recovered = Native.FACESR_FRAME_RECOVERED,      // diverged at first, solved by the recovery
+        Diverged = Native.FACESR_FRAME_DIVERGED,        // recovery failed: the last good surface is returned
     }
 }

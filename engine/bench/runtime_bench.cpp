@@ -38,11 +38,13 @@ json bench_runtime(std::shared_ptr<const Rig> rig, std::shared_ptr<const SrModel
 
   // Synchronous: each frame simulated then super-resolved.
   std::vector<double> sim, sr, e2e, newton;
+  int diverged = 0;  // over every frame stepped, timed or not
   for (int f = 0; f < total; ++f) {
     ctx.set_weights(frame_weights(f));
     const auto t0 = std::chrono::steady_clock::now();
     ctx.step();
     const double ms = 1e3 * seconds_since(t0);
+    diverged += ctx.result().status == StepStatus::Diverged;
     if (f >= opt.warmup) {
       sim.push_back(ctx.result().simulation_ms);
       sr.push_back(ctx.result().inference_ms);
@@ -61,10 +63,16 @@ json bench_runtime(std::shared_ptr<const Rig> rig, std::shared_ptr<const SrModel
       if (f == opt.warmup) t_start = std::chrono::steady_clock::now();
       c.set_weights(frame_weights(f));
       c.step_async();
-      if (c.pending() == 2) c.wait();
+      if (c.pending() == 2) {
+        c.wait();
+        diverged += c.result().status == StepStatus::Diverged;
+      }
       progress.update(progress_done + f + 1, label);
     }
-    while (c.pending() > 0) c.wait();
+    while (c.pending() > 0) {
+      c.wait();
+      diverged += c.result().status == StepStatus::Diverged;
+    }
     progress_done += total;
     return double(opt.frames) / seconds_since(t_start);
   };
@@ -116,6 +124,7 @@ json bench_runtime(std::shared_ptr<const Rig> rig, std::shared_ptr<const SrModel
   r["lr_step_ms"] = mean(sim);
   r["lr_step_p95_ms"] = p95(sim);
   r["lr_newton_iters"] = mean(newton);
+  r["diverged_frames"] = diverged;
   r["sr_ms"] = mean(sr);
   r["sr_p95_ms"] = p95(sr);
   r["end_to_end_ms"] = mean(e2e);

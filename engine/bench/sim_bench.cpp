@@ -15,7 +15,7 @@ namespace {
 
 struct Timing {
   double mean_ms = 0, p95_ms = 0, mean_newton = 0, mean_cg = 0, max_rel = 0;
-  int inverted_max = 0, frames = 0;
+  int inverted_max = 0, frames = 0, diverged = 0;
 };
 
 double percentile(std::vector<double> v, double q) {
@@ -35,6 +35,7 @@ Timing run_frames(Simulator& sim, const std::vector<std::vector<float>>& frames,
     c.weights = frames[size_t(f) % frames.size()];
     const StepStats st = sim.step(c);
     if (progress) progress->update(++done);
+    t.diverged += st.status == StepStatus::Diverged;
     if (f < warmup) continue;
     ms.push_back(st.ms);
     t.mean_newton += st.newton_iters;
@@ -53,7 +54,8 @@ Timing run_frames(Simulator& sim, const std::vector<std::vector<float>>& frames,
 nlohmann::json to_json(const Timing& t) {
   return {{"mean_step_ms", t.mean_ms},       {"p95_step_ms", t.p95_ms},
           {"mean_newton_iters", t.mean_newton}, {"mean_cg_iters", t.mean_cg},
-          {"max_rel_residual", t.max_rel},   {"inverted_tets_max", t.inverted_max}};
+          {"max_rel_residual", t.max_rel},   {"inverted_tets_max", t.inverted_max},
+          {"diverged_frames", t.diverged}};
 }
 
 // Smooth frames for a synthetic block: its one shape and its muscle ramp.

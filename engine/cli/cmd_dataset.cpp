@@ -40,10 +40,11 @@ std::string dataset_markdown(const nlohmann::json& j, const DatasetManifest& m) 
   std::snprintf(line, sizeof line,
                 "Simulation time (sum of LR and HR step times): %.1f min. Wall time of the last run: %.1f min "
                 "(%d frames were resumed from an earlier, interrupted run; %d sequences were already complete). "
-                "NaN frames: %d. The paper reports HR/LR = 188×.\n",
+                "NaN frames: %d; diverged frames: %d; HR frames stopped above the Newton tolerance: %d (left out of training). "
+                "The paper reports HR/LR = 188×.\n",
                 j.value("frames", 0) * (j.value("hr_mean_step_s", 0.0) + j.value("lr_mean_step_ms", 0.0) / 1e3) / 60,
                 j.value("wall_s", 0.0) / 60, j.value("resumed_frames", 0), j.value("skipped_sequences", 0),
-                j.value("nan_frames", 0));
+                j.value("nan_frames", 0), j.value("diverged_frames", 0), j.value("hr_capped_frames", 0));
   md << line;
   return md.str();
 }
@@ -55,7 +56,7 @@ void register_dataset(CLI::App& app) {
     std::string rig, out, builtins, test = "anger,fear", device, markdown;
     std::vector<std::string> files;
     int frames = 0;
-    bool restart = false, no_collisions = false, lr_cpu = false, json = false, quiet = false;
+    bool restart = false, no_collisions = false, lr_cpu = false, json = false, quiet = false, strict = false;
   };
   static Args a;
   auto* sub = app.add_subcommand("dataset", "Simulate performances on LR and HR and write the paired dataset");
@@ -64,6 +65,9 @@ void register_dataset(CLI::App& app) {
   sub->add_option("--builtin", a.builtins,
                   "Comma-separated built-in performances (default amazement,anger,fear,pain when no --performance)");
   sub->add_option("--performance", a.files, "Performance file(s): keyframe JSON or Live Link Face CSV");
+  sub->add_flag("--strict", a.strict,
+                "Refuse a Live Link CSV the default would repair (weights outside [0, 1], tracking-lost rows, "
+                "repeated times, frame-index timecodes) instead of warning");
   sub->add_option("--test", a.test, "Comma-separated performances of the test split (default anger,fear)");
   sub->add_option("--frames", a.frames, "Only the first N frames of each performance");
   sub->add_option("--device", a.device, "OpenCL device for the LR simulation");
@@ -81,6 +85,7 @@ void register_dataset(CLI::App& app) {
     DatasetOptions o;
     o.builtins = split_list(a.builtins);
     o.files = a.files;
+    o.csv.strict = a.strict;
     if (o.builtins.empty() && o.files.empty()) o.builtins = {"amazement", "anger", "fear", "pain"};
     o.test_names = split_list(a.test);
     o.max_frames = a.frames;

@@ -13,22 +13,27 @@ namespace {
 
 struct PerfArgs {
   std::string rig, performance, builtin, out;
-  bool json = false, quiet = false;
+  bool json = false, quiet = false, strict = false;
 };
 
 // A Live Link CSV also yields its column report; `csv` stays empty otherwise.
 // The report goes to stderr because unknown columns silently losing motion
-// is the usual surprise with a new capture.
+// is the usual surprise with a new capture; so do the repairs' warnings, even
+// with --quiet (they change the motion).
 Performance load(const PerfArgs& a, const Rig& rig, nlohmann::json& csv) {
   require(a.performance.empty() != a.builtin.empty(), "give exactly one of --performance FILE and --builtin NAME");
   if (!a.builtin.empty()) return builtin_performance(a.builtin, rig.blendshape_names);
   LiveLinkReport report;
   report.rows = -1;  // stays -1 unless the file was a CSV
-  Performance p = load_performance(a.performance, rig.blendshape_names, &report);
+  LiveLinkOptions options;
+  options.strict = a.strict;
+  Performance p = load_performance(a.performance, rig.blendshape_names, options, &report);
   if (report.rows >= 0) {
     csv = livelink_report_json(report);
     if (!a.quiet)
       std::fprintf(stderr, "[perf] %s: %s\n", a.performance.c_str(), livelink_report_summary(report).c_str());
+    for (const std::string& w : report.warnings)
+      std::fprintf(stderr, "[perf] %s: warning: %s\n", a.performance.c_str(), w.c_str());
   }
   return p;
 }
@@ -80,6 +85,10 @@ void write(const PerfArgs& a) {
   }
 }
 
+constexpr const char* kStrictHelp =
+    "Refuse a Live Link CSV the default would repair (weights outside [0, 1], tracking-lost rows, repeated "
+    "times, frame-index timecodes) instead of warning";
+
 std::string builtin_list() {
   std::string s;
   for (const auto& n : builtin_performance_names()) s += (s.empty() ? "" : ", ") + n;
@@ -100,6 +109,7 @@ void register_perf(CLI::App& app) {
   auto* builtin = show_cmd->add_option("--builtin", s.builtin, "Built-in performance: " + builtin_list());
   file->excludes(builtin);
   show_cmd->add_flag("--json", s.json, "JSON summary on stdout");
+  show_cmd->add_flag("--strict", s.strict, kStrictHelp);
   add_action(show_cmd, [] { show(s); });
 
   static PerfArgs w;
@@ -112,6 +122,7 @@ void register_perf(CLI::App& app) {
   wfile->excludes(wbuiltin);
   write_cmd->add_option("--out,-o", w.out, "Output JSON file")->required();
   write_cmd->add_flag("--json", w.json, "JSON summary on stdout");
+  write_cmd->add_flag("--strict", w.strict, kStrictHelp);
   write_cmd->add_flag("--quiet,-q", w.quiet, "No progress output");
   add_action(write_cmd, [] { write(w); });
 }

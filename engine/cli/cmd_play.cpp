@@ -13,6 +13,7 @@
 #include "core/progress.h"
 #include "collide/mouth_collider.h"
 #include "dataset/dataset_manifest.h"
+#include "perf/livelink_csv.h"
 #include "perf/perf_controls.h"
 #include "perf/performance.h"
 #include "render/sequence_gltf.h"
@@ -26,12 +27,15 @@ namespace {
 
 struct RuntimeArgs {
   std::string rig, model, builtin, performance, device, solver = "realtime", lr_precision = "auto";
-  bool cpu_inference = false, split_device = false;
+  bool cpu_inference = false, split_device = false, strict = false;
   void add(CLI::App* sub) {
     sub->add_option("--rig", rig, "Rig file")->required();
     sub->add_option("--model", model, "Trained network (.fsm) for this rig")->required();
     sub->add_option("--builtin", builtin, "Built-in performance (default talk)");
     sub->add_option("--performance", performance, "Performance file: keyframe JSON or Live Link Face CSV");
+    sub->add_flag("--strict", strict,
+                  "Refuse a Live Link CSV the default would repair (weights outside [0, 1], tracking-lost rows, "
+                  "repeated times, frame-index timecodes) instead of warning");
     sub->add_option("--device", device, "OpenCL device: index, name, cpu or gpu (default: first CPU device)");
     sub->add_option("--solver", solver, "realtime (default) | accurate");
     sub->add_option("--lr-precision", lr_precision,
@@ -54,10 +58,17 @@ struct RuntimeArgs {
     o.lr_single_precision = lr_precision == "float" || (lr_precision == "auto" && solver == "realtime");
     return o;
   }
+  // The repairs' warnings go to stderr even with --quiet: they change the motion.
   Performance load(const Rig& rig) const {
     require(builtin.empty() || performance.empty(), "give --builtin or --performance, not both");
-    return performance.empty() ? builtin_performance(builtin.empty() ? "talk" : builtin, rig.blendshape_names)
-                               : load_performance(performance, rig.blendshape_names);
+    if (performance.empty()) return builtin_performance(builtin.empty() ? "talk" : builtin, rig.blendshape_names);
+    LiveLinkOptions o;
+    o.strict = strict;
+    LiveLinkReport report;
+    Performance p = load_performance(performance, rig.blendshape_names, o, &report);
+    for (const std::string& w : report.warnings)
+      std::fprintf(stderr, "[play] %s: warning: %s\n", performance.c_str(), w.c_str());
+    return p;
   }
 };
 
@@ -87,7 +98,8 @@ void register_play(CLI::App& app) {
   sub->add_option("--out,-o", a.out, "Output glTF (.gltf, morph-target animation, cm in a 0.01-scaled node)");
   sub->add_option("--frames", a.frames, "Play only the first N frames");
   sub->add_flag("--async", a.async, "Pipeline: simulate frame t+1 while super-resolving frame t");
-  sub->add_flag("--json", a.json, "Print a JSON summary: frames, fps, mean_simulation_ms, mean_inference_ms, device");
+  sub->add_flag("--json", a.json, "Print a JSON summary: frames, fps, mean_simulation_ms, mean_inference_ms, diverged_frames, recovered_frames, "
+                "unconverged_frames, device; exit status 1 when any frame diverged");
   sub->add_flag("--quiet,-q", a.quiet, "No progress output");
   add_action(sub, [] {
     require(a.frames >= 0, "--frames must be >= 0");
@@ -105,8 +117,12 @@ void register_play(CLI::App& app) {
     seq.header.fps = perf.fps;
     seq.header.num_surface = uint64_t(rig->num_surface_vertices());
     double sim_ms = 0, sr_ms = 0;
+    int diverged = 0, recovered = 0, unconverged = 0;
     auto keep = [&] {
       const FrameResult& r = ctx.result();
+      diverged += r.status == StepStatus::Diverged;
+      recovered += r.status == StepStatus::Recovered;
+      unconverged += r.status == StepStatus::Unconverged;
       seq.time.push_back(perf.time(int(r.frame)));
       seq.surface.insert(seq.surface.end(), r.positions.begin(), r.positions.end());
       sim_ms += r.simulation_ms;
@@ -142,6 +158,9 @@ void register_play(CLI::App& app) {
                         {"mean_simulation_ms", sim_ms / F},
                         {"mean_inference_ms", sr_ms / F},
                         {"async", a.async},
+                        {"diverged_frames", diverged},
+                        {"recovered_frames", recovered},
+                        {"unconverged_frames", unconverged},
                         {"device", ctx.device()},
                         {"out", a.out},
                         {"units", "cm"}};
@@ -151,6 +170,9 @@ void register_play(CLI::App& app) {
       std::printf("played %d frames at %.1f FPS (simulation %.1f ms, super-resolution %.1f ms per frame%s)%s%s\n", F,
                   fps, sim_ms / F, sr_ms / F, a.async ? ", pipelined" : "", a.out.empty() ? "" : "; wrote ",
                   a.out.c_str());
+    if (diverged > 0)
+      throw Error(std::to_string(diverged) + " of " + std::to_string(F) +
+                  " frames diverged; the runtime returned the last good surface for them (see diverged_frames)");
   });
 }
 

@@ -15,6 +15,7 @@
 #include "collide/mouth_collider.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "perf/livelink_csv.h"
 #include "perf/perf_controls.h"
 #include "perf/performance.h"
 #include "perf/sequence_io.h"
@@ -69,10 +70,17 @@ struct SolverArgs {
   }
 };
 
-Performance load_perf(const std::string& path, const std::string& builtin, const Rig& rig) {
+// A Live Link CSV's repairs are warned about on stderr even with --quiet: they change the motion.
+Performance load_perf(const std::string& path, const std::string& builtin, bool strict, const Rig& rig) {
   require(path.empty() != builtin.empty(), "give exactly one of --performance FILE or --builtin NAME");
-  return path.empty() ? builtin_performance(builtin, rig.blendshape_names)
-                      : load_performance(path, rig.blendshape_names);
+  if (path.empty()) return builtin_performance(builtin, rig.blendshape_names);
+  LiveLinkOptions o;
+  o.strict = strict;
+  LiveLinkReport report;
+  Performance p = load_performance(path, rig.blendshape_names, o, &report);
+  for (const std::string& w : report.warnings)
+    std::fprintf(stderr, "[simulate] %s: warning: %s\n", path.c_str(), w.c_str());
+  return p;
 }
 
 void require_parent(const std::string& out) {
@@ -151,7 +159,7 @@ void register_simulate(CLI::App& app) {
     std::string rig, res = "low", performance, builtin, out;
     std::vector<std::string> springs, spheres;
     int max_frames = 0;
-    bool json = false, quiet = false, no_collisions = false;
+    bool json = false, quiet = false, no_collisions = false, strict = false;
     double contact_stiffness = -1;
     SolverArgs solver;
   };
@@ -164,6 +172,9 @@ void register_simulate(CLI::App& app) {
   sub->add_option("--rig", a.rig, "Rig file (from `facesr rig build`)")->required();
   sub->add_option("--res", a.res, "low (LR lattice, real-time) | high (HR conforming mesh)");
   sub->add_option("--performance", a.performance, "Performance: keyframe JSON or Live Link Face CSV");
+  sub->add_flag("--strict", a.strict,
+                "Refuse a Live Link CSV the default would repair (weights outside [0, 1], tracking-lost rows, "
+                "repeated times, frame-index timecodes) instead of warning");
   sub->add_option("--builtin", a.builtin, "Built-in performance: " + [] {
     std::string s;
     for (const auto& n : builtin_performance_names()) s += (s.empty() ? "" : ", ") + n;
@@ -178,13 +189,14 @@ void register_simulate(CLI::App& app) {
   sub->add_option("--sphere", a.spheres, "Kinematic sphere collider on every frame, X,Y,Z:RADIUS:K (cm, kPa·cm)");
   sub->add_flag("--json", a.json,
                 "Print a JSON summary: frames, mean_step_ms, p95_step_ms, mean_newton_iters, mean_cg_iters, "
-                "max_rel_residual, nan_frames, inverted_tets_max, device");
+                "max_rel_residual, unconverged_frames, recovered_frames, diverged_frames, nan_frames, inverted_tets_max, device; "
+                "exit status 1 when any frame diverged");
   sub->add_flag("--quiet,-q", a.quiet, "No progress output");
   a.solver.add(sub);
   add_action(sub, [] {
     require_parent(a.out);
     const Rig rig = load_rig(a.rig);
-    const Performance perf = load_perf(a.performance, a.builtin, rig);
+    const Performance perf = load_perf(a.performance, a.builtin, a.strict, rig);
     const Resolution res = parse_resolution(a.res);
     const SimModel model = make_sim_model(rig, res);
     std::unique_ptr<Simulator> sim;
@@ -217,7 +229,7 @@ void register_simulate(CLI::App& app) {
     std::vector<double> ms, x, s;
     std::vector<float> xf, sf;
     double newton = 0, cg = 0, max_rel = 0, max_pen = 0, contacts = 0;
-    int inverted_max = 0, nan_frames = 0, unconverged = 0;
+    int inverted_max = 0, nan_frames = 0, unconverged = 0, diverged = 0, recovered = 0, first_diverged = -1;
     Controls c;
     for (const auto& spec : a.springs) c.springs.push_back(parse_spring(spec, rig, model));
     for (const auto& spec : a.spheres) c.spheres.push_back(parse_sphere(spec));
@@ -241,12 +253,15 @@ void register_simulate(CLI::App& app) {
       cg += st.cg_iters;
       max_rel = std::max(max_rel, st.rel_residual);
       inverted_max = std::max(inverted_max, st.inverted_tets);
-      unconverged += !st.converged;
+      unconverged += st.status == StepStatus::Unconverged;
+      recovered += st.status == StepStatus::Recovered;
+      if (st.status == StepStatus::Diverged && diverged++ == 0) first_diverged = f;
       max_pen = std::max(max_pen, st.max_penetration_cm);
       contacts += st.contacts;
       char detail[200];
-      std::snprintf(detail, sizeof detail, "%.1f ms, %d Newton, %d CG, residual %.1e", st.ms, st.newton_iters,
-                    st.cg_iters, st.rel_residual);
+      std::snprintf(detail, sizeof detail, "%.1f ms, %d Newton, %d CG, residual %.1e%s", st.ms, st.newton_iters,
+                    st.cg_iters, st.rel_residual,
+                    st.status == StepStatus::Diverged ? ", DIVERGED (held)" : st.status == StepStatus::Recovered ? ", recovered" : "");
       if (collider)
         std::snprintf(detail + std::strlen(detail), sizeof detail - std::strlen(detail),
                       ", %d contacts, max penetration %.3f cm", st.contacts, st.max_penetration_cm);
@@ -264,6 +279,8 @@ void register_simulate(CLI::App& app) {
                      {"max_rel_residual", max_rel},
                      {"unconverged_frames", unconverged},
                      {"nan_frames", nan_frames},
+                     {"diverged_frames", diverged},
+                     {"recovered_frames", recovered},
                      {"inverted_tets_max", inverted_max},
                      {"device", sim->device()},
                      {"res", resolution_name(res)},
@@ -287,6 +304,11 @@ void register_simulate(CLI::App& app) {
                   "max residual %.1e, positions in cm\n",
                   a.out.c_str(), frames, mean, percentile(ms, 0.95), newton / frames, cg / frames, max_rel);
     }
+    // The sequence holds only sane states (a diverged frame repeats the last
+    // good one), but a take that did not play as asked is not a success.
+    if (diverged > 0)
+      throw Error(std::to_string(diverged) + " of " + std::to_string(frames) + " frames diverged and were held at the last good state (first: frame " +
+                  std::to_string(first_diverged) + "); see diverged_frames");
   });
 }
 

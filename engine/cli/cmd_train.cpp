@@ -45,6 +45,9 @@ void register_train(CLI::App& app) {
   sub->add_option("--checkpoints", a.checkpoints, "Checkpoint folder (default <out>.ckpt)");
   sub->add_option("--validation-every", a.o.validation_every,
                   "Hold out every n-th training frame for validation (default 10; 0: none)");
+  sub->add_flag("--keep-capped", a.o.keep_capped,
+                "Train on HR frames that stopped above the dataset's Newton tolerance too (default: left out, counted "
+                "in capped_left_out)");
   sub->add_option("--patience", a.o.patience, "Early stop after this many epochs without a better validation error");
   sub->add_option("--time-limit", a.o.time_limit_s, "Checkpoint, export and stop after this many seconds");
   sub->add_flag("--restart", a.restart, "Ignore and remove an existing checkpoint instead of resuming");

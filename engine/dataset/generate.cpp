@@ -18,6 +18,7 @@
 #include "dataset/dataset_io.h"
 #include "dataset/dataset_manifest.h"
 #include "dataset/dataset_metrics.h"
+#include "perf/livelink_csv.h"
 #include "perf/perf_controls.h"
 #include "perf/performance.h"
 #include "rig/rig_io.h"
@@ -38,6 +39,8 @@ nlohmann::json DatasetSummary::to_json() const {
           {"embedded_error_max_cm", embedded_error_max_cm},
           {"max_penetration_cm", max_penetration_cm},
           {"nan_frames", nan_frames},
+          {"diverged_frames", diverged_frames},
+          {"hr_capped_frames", hr_capped_frames},
           {"wall_s", wall_s},
           {"lr_device", lr_device},
           {"hr_device", hr_device},
@@ -95,8 +98,10 @@ std::vector<float> minus(const std::vector<double>& a, const std::vector<double>
 struct Totals {
   double hr_s = 0, lr_ms = 0, err_sum = 0, err_max = 0, pen_max = 0;
   long vertex_frames = 0;
-  int frames = 0;
-  void add(const DatasetFrame& f) {
+  int frames = 0, hr_capped = 0;
+  // hr_tol: the HR Newton tolerance; frames that stopped above it are counted.
+  void add(const DatasetFrame& f, double hr_tol) {
+    hr_capped += f.stats.hr_rel_residual > hr_tol;
     double mean, max;
     embedded_error(f, mean, max);
     const long S = long(f.hr_disp.size() / 3);
@@ -121,7 +126,11 @@ DatasetSummary generate_dataset(const Rig& rig, const std::string& rig_path, con
   std::vector<Performance> perfs;
   for (const auto& b : opt.builtins) perfs.push_back(builtin_performance(b, rig.blendshape_names));
   for (const auto& f : opt.files) {
-    perfs.push_back(load_performance(f, rig.blendshape_names));
+    LiveLinkReport report;
+    perfs.push_back(load_performance(f, rig.blendshape_names, opt.csv, &report));
+    // Even without progress output: a repaired capture is not the motion the file claims.
+    for (const std::string& w : report.warnings)
+      std::fprintf(stderr, "[dataset] %s: warning: %s\n", f.c_str(), w.c_str());
     if (perfs.back().name.empty()) perfs.back().name = fs::path(f).stem().string();
   }
   for (size_t i = 0; i < perfs.size(); ++i) {
@@ -165,6 +174,8 @@ DatasetSummary generate_dataset(const Rig& rig, const std::string& rig_path, con
   manifest.num_surface = hr_model.num_surface;
   manifest.weight_names = rig.blendshape_names;
   manifest.extra["collisions"] = opt.collisions;
+  // What "stopped above the tolerance" means for this dataset's HR frames.
+  manifest.extra["hr_newton_tol"] = opt.hr_solver.newton_tol;
   manifest.extra["lr_device"] = lr->device();
   manifest.extra["hr_device"] = hr->device();
   manifest.extra["collision_region_nodes"] = collider->info().region_nodes;
@@ -201,7 +212,7 @@ DatasetSummary generate_dataset(const Rig& rig, const std::string& rig_path, con
       if (old.rig_checksum == checksum && old.num_frames == uint64_t(perf.frames()) &&
           old.num_lr_nodes == h.num_lr_nodes && old.num_surface == h.num_surface) {
         const DatasetSequence s = read_dataset_sequence(path);
-        for (const auto& f : s.frames) seq.add(f);
+        for (const auto& f : s.frames) seq.add(f, opt.hr_solver.newton_tol);
         finished = true;
         ++sum.skipped_sequences;
         done += perf.frames();
@@ -252,6 +263,12 @@ DatasetSummary generate_dataset(const Rig& rig, const std::string& rig_path, con
           throw Error("dataset: " + perf.name + " frame " + std::to_string(f) +
                       ": non-finite simulation result; the sequence stops at its last good frame");
         }
+        if (ls.status == StepStatus::Diverged || hs.status == StepStatus::Diverged) {
+          ++sum.diverged_frames;
+          if (opt.progress)
+            std::fprintf(stderr, "[dataset] %s frame %d: %s solve diverged past recovery; held at the last good state\n",
+                         perf.name.c_str(), f, hs.status == StepStatus::Diverged ? "HR" : "LR");
+        }
         DatasetFrame fr;
         fr.time = perf.time(f);
         fr.weights = c.weights;
@@ -275,7 +292,7 @@ DatasetSummary generate_dataset(const Rig& rig, const std::string& rig_path, con
         fr.stats.lr_rel_residual = float(ls.rel_residual);
         writer->add_frame(fr);
         save_state(state_path, uint64_t(f), xl, xh);
-        seq.add(fr);
+        seq.add(fr, opt.hr_solver.newton_tol);
         char detail[200];
         std::snprintf(detail, sizeof detail, "%s %d/%d: HR %.1f s (%d Newton, %d contacts, pen %.3f cm), LR %.0f ms",
                       perf.name.c_str(), f + 1, perf.frames(), hs.ms / 1e3, hs.newton_iters, hs.contacts,
@@ -288,7 +305,7 @@ DatasetSummary generate_dataset(const Rig& rig, const std::string& rig_path, con
       if (start > 0) {
         const DatasetSequence s = read_dataset_sequence(path);
         seq = Totals{};
-        for (const auto& f : s.frames) seq.add(f);
+        for (const auto& f : s.frames) seq.add(f, opt.hr_solver.newton_tol);
       }
     }
     entry.frames = perf.frames();
@@ -310,10 +327,12 @@ DatasetSummary generate_dataset(const Rig& rig, const std::string& rig_path, con
     all.err_max = std::max(all.err_max, seq.err_max);
     all.pen_max = std::max(all.pen_max, seq.pen_max);
     all.frames += seq.frames;
+    all.hr_capped += seq.hr_capped;
     ++sum.sequences;
   }
   progress.finish();
   sum.frames = all.frames;
+  sum.hr_capped_frames = all.hr_capped;
   sum.hr_mean_step_s = all.hr_s / all.frames;
   sum.lr_mean_step_ms = all.lr_ms / all.frames;
   sum.hr_over_lr_time = sum.lr_mean_step_ms > 0 ? 1e3 * sum.hr_mean_step_s / sum.lr_mean_step_ms : 0;

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "perf/livelink_csv.h"
 #include "rig/rig.h"
 #include "sim/simulator.h"
 
@@ -16,6 +17,7 @@ namespace facesr {
 struct DatasetOptions {
   std::vector<std::string> builtins;  // built-in performance names
   std::vector<std::string> files;     // performance files (.json keyframes or Live Link .csv)
+  LiveLinkOptions csv;                // how .csv files load; their repairs' warnings go to stderr
   // Performances in the test split (the paper trains on amazement and pain
   // and tests on anger and fear); the others are training data.
   std::vector<std::string> test_names{"anger", "fear"};
@@ -34,6 +36,12 @@ struct DatasetSummary {
   double embedded_error_mean_cm = 0, embedded_error_max_cm = 0;
   double max_penetration_cm = 0;
   int nan_frames = 0;
+  // Frames whose LR or HR solve diverged past recovery (held at the last
+  // good state), and HR frames that stopped at the Newton cap above the
+  // tolerance (diverged ones included). Both are kept in the .fsd with their
+  // residuals; training leaves HR frames above the tolerance out (see
+  // load_dataset_split).
+  int diverged_frames = 0, hr_capped_frames = 0;
   double wall_s = 0;
   std::string lr_device, hr_device;
   nlohmann::json to_json() const;

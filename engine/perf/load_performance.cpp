@@ -11,10 +11,15 @@ namespace facesr {
 
 Performance load_performance(const std::string& path, const std::vector<std::string>& rig_names,
                              LiveLinkReport* csv_report) {
+  return load_performance(path, rig_names, LiveLinkOptions(), csv_report);
+}
+
+Performance load_performance(const std::string& path, const std::vector<std::string>& rig_names,
+                             const LiveLinkOptions& csv, LiveLinkReport* csv_report) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (ext == ".json") return load_performance_json(path, rig_names);
-  if (ext == ".csv") return load_livelink_csv(path, rig_names, 60, 30, csv_report);
+  if (ext == ".csv") return load_livelink_csv(path, rig_names, csv, csv_report);
   throw Error(path + ": unknown performance file type '" + ext +
               "' (expected .json keyframes or .csv Live Link Face capture)");
 }

@@ -39,7 +39,8 @@
 // this is exact about a fixed axis and close enough between nearby keyframes).
 namespace facesr {
 
-struct LiveLinkReport;  // perf/livelink_csv.h
+struct LiveLinkReport;   // perf/livelink_csv.h
+struct LiveLinkOptions;  // perf/livelink_csv.h
 
 struct Performance {
   std::string name;
@@ -81,11 +82,14 @@ nlohmann::json performance_to_json(const Performance& perf);
 void save_performance_json(const Performance& perf, const std::string& path);
 
 // Loads a performance by extension: ".json" keyframes (load_performance_json)
-// or ".csv" Live Link Face capture (load_livelink_csv at its default 60 fps
-// capture, 30 fps output; `csv_report`, if given, receives its column report).
-// Any other extension is an Error naming the file.
+// or ".csv" Live Link Face capture (load_livelink_csv with `csv` options, by
+// default lenient at 60 fps capture, 30 fps output; `csv_report`, if given,
+// receives its column report and the warnings about what it repaired, which
+// the caller should print). Any other extension is an Error naming the file.
 Performance load_performance(const std::string& path, const std::vector<std::string>& rig_names,
                              LiveLinkReport* csv_report = nullptr);
+Performance load_performance(const std::string& path, const std::vector<std::string>& rig_names,
+                             const LiveLinkOptions& csv, LiveLinkReport* csv_report = nullptr);
 
 // Built-in performances at 30 fps: "smile", "jaw", "talk", "random",
 // "sparse" and its other takes "sparse-2" ... "sparse-99" (see

@@ -1,6 +1,7 @@
 #include "runtime/runtime_context.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <condition_variable>
 #include <deque>
@@ -10,6 +11,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "core/number_text.h"
 #include "core/progress.h"
 #include "mesh/tri_mesh.h"
 #include "rig/rig_io.h"
@@ -21,6 +23,17 @@ namespace facesr {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// The capture tolerance of sim/controls.h: slight overshoots clamped, the rest refused.
+float checked_weight(const std::string& name, float value) {
+  require(std::isfinite(value), "weight '" + name + "' is not finite");
+  // Compared in float: 1.1f is a little above the double 1.1.
+  const float low = float(1 - kWeightTolerance), high = float(kWeightTolerance);
+  require(value >= low && value <= high, "weight '" + name + "' is " + number_text(value, 6) + ", outside [" +
+                                             number_text(low, 3) + ", " + number_text(high, 3) +
+                                             "] (values within it are clamped into [0, 1])");
+  return std::clamp(value, 0.0f, 1.0f);
+}
 
 void require_finite(const Vec3& v, const std::string& what) {
   require(std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()), what + " is not finite");
@@ -88,6 +101,9 @@ struct RuntimeContext::Impl {
     j.result.newton_iterations = st.newton_iters;
     j.result.cg_iterations = st.cg_iters;
     j.result.relative_residual = st.rel_residual;
+    j.result.status = st.status;
+    j.result.inverted_tets = st.inverted_tets;
+    j.result.recoveries = st.recoveries;
     j.result.simulation_ms = 1e3 * seconds_since(t0);
   }
 
@@ -217,9 +233,7 @@ void RuntimeContext::set_weight(int index, float value) {
   require(index >= 0 && index < num_weights(), "weight index " + std::to_string(index) + " is out of range [0, " +
                                                    std::to_string(num_weights()) + ")");
   const std::string& name = impl_->rig->blendshape_names[size_t(index)];
-  require(std::isfinite(value), "weight '" + name + "' is not finite");
-  require(value >= 0 && value <= 1, "weight '" + name + "' is " + std::to_string(value) + ", outside [0, 1]");
-  impl_->controls.weights[size_t(index)] = value;
+  impl_->controls.weights[size_t(index)] = checked_weight(name, value);
 }
 
 void RuntimeContext::set_weight(const std::string& name, float value) {
@@ -233,11 +247,9 @@ void RuntimeContext::set_weights(const std::vector<float>& w) {
   require(int(w.size()) == num_weights(),
           "set_weights: " + std::to_string(w.size()) + " weights given, the rig has " + std::to_string(num_weights()));
   const auto& names = impl_->rig->blendshape_names;
-  for (size_t i = 0; i < w.size(); ++i) {
-    require(std::isfinite(w[i]), "weight '" + names[i] + "' is not finite");
-    require(w[i] >= 0 && w[i] <= 1, "weight '" + names[i] + "' is " + std::to_string(w[i]) + ", outside [0, 1]");
-  }
-  impl_->controls.weights = w;
+  std::vector<float> clamped(w.size());
+  for (size_t i = 0; i < w.size(); ++i) clamped[i] = checked_weight(names[i], w[i]);
+  impl_->controls.weights = std::move(clamped);
 }
 
 void RuntimeContext::set_jaw(const Mat3& R, const Vec3& t) {

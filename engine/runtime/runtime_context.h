@@ -46,6 +46,11 @@ struct FrameResult {
   double simulation_ms = 0, inference_ms = 0, total_ms = 0;
   int newton_iterations = 0, cg_iterations = 0;
   double relative_residual = 0;
+  // The LR solve's outcome. With StepStatus::Diverged every recovery failed
+  // and positions, normals and embedded are the last good frame's surface.
+  StepStatus status = StepStatus::Converged;
+  int inverted_tets = 0;  // LR tets with det F ≤ 0 in the returned state's solve
+  int recoveries = 0;     // extra solves the recovery ladder ran
 };
 
 class RuntimeContext {

@@ -13,6 +13,7 @@
 #include "compute/cl_program.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "sim/recovering_simulator.h"
 #include "sim/stiffness_pattern.h"
 
 namespace facesr {
@@ -129,6 +130,8 @@ class ClSimulator final : public Simulator {
     return ctx_.device().device_name + " (OpenCL, " + (sizeof(Real) == 8 ? "double" : "float") + ")";
   }
   const SimModel& model() const override { return m_; }
+  const SolverOptions& options() const override { return opt_; }
+  void set_options(const SolverOptions& opt) override { opt_ = opt; }
 
   void reset() override {
     x_.upload(to_real<Real>(m_.rest));
@@ -189,7 +192,10 @@ class ClSimulator final : public Simulator {
       mark("gradient");
       st.rel_residual = std::sqrt(gg) / ref;
       st.residuals.push_back(st.rel_residual);
-      if (!std::isfinite(st.rel_residual)) throw Error("simulation diverged (non-finite forces)");
+      if (!std::isfinite(st.rel_residual)) {  // the recovering wrapper restarts the frame
+        st.finite = false;
+        break;
+      }
       if (st.rel_residual <= opt_.newton_tol) {
         st.converged = true;
         break;
@@ -228,6 +234,7 @@ class ClSimulator final : public Simulator {
       std::swap(x_, xt_);
     }
     st.energy = std::isnan(e_cur) ? energy(x_) : e_cur;
+    st.status = st.converged ? StepStatus::Converged : StepStatus::Unconverged;
     ++solved_frames_;
     const uint32_t T = m_.num_tets;
     k("tet_inverted").args(T, tets_, x_, Dminv_, elem_).run_1d(T, local_);
@@ -704,8 +711,12 @@ std::unique_ptr<Simulator> make_cl_simulator(const SimModel& model, const Solver
                                              const ClSimulatorOptions& cl) {
   if (cl.cg_batch < 0) throw Error("ClSimulatorOptions::cg_batch must be 0 (automatic) or positive, got " + std::to_string(cl.cg_batch));
   const compute::DeviceInfo dev = compute::select_device(cl.device);
-  if (dev.double_support && !cl.single_precision) return std::make_unique<ClSimulator<double>>(model, opt, dev, cl.elements, cl.product, cl.cg_batch);
-  return std::make_unique<ClSimulator<float>>(model, opt, dev, cl.elements, cl.product, cl.cg_batch);
+  std::unique_ptr<Simulator> sim;
+  if (dev.double_support && !cl.single_precision)
+    sim = std::make_unique<ClSimulator<double>>(model, opt, dev, cl.elements, cl.product, cl.cg_batch);
+  else
+    sim = std::make_unique<ClSimulator<float>>(model, opt, dev, cl.elements, cl.product, cl.cg_batch);
+  return opt.recover ? make_recovering_simulator(std::move(sim)) : std::move(sim);
 }
 
 }  // namespace facesr

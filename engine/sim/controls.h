@@ -22,6 +22,12 @@ struct SphereCollider {
   double stiffness = 0;
 };
 
+// Blendshape weights from capture overshoot [0, 1] a little (ARKit's
+// EyeLookIn reaches 1.05): weights in [1 − kWeightTolerance, kWeightTolerance]
+// are clamped into [0, 1] by the Live Link import (unless strict) and by the
+// runtime's setters; beyond that, or NaN, they are refused.
+constexpr double kWeightTolerance = 1.1;
+
 // Per-frame inputs of a simulation.
 struct Controls {
   std::vector<float> weights;  // one per rig blendshape (rig order), each in [0, 1]

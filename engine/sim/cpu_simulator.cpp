@@ -13,6 +13,7 @@
 #include "sim/assembled_stiffness.h"
 #include "sim/contact.h"
 #include "sim/cpu_forces.h"
+#include "sim/recovering_simulator.h"
 #include "sim/simulator.h"
 
 namespace facesr {
@@ -69,6 +70,8 @@ class CpuSimulator final : public Simulator {
     return contacts_ && resolve_ ? "cpu-reference (Eigen, double) + Embree contacts" : "cpu-reference (Eigen, double)";
   }
   const SimModel& model() const override { return m_; }
+  const SolverOptions& options() const override { return opt_; }
+  void set_options(const SolverOptions& opt) override { opt_ = opt; }
 
   double time_stiffness_product(int reps) override {
     Controls c;
@@ -143,7 +146,10 @@ class CpuSimulator final : public Simulator {
         std::fprintf(stderr, "  newton %d: residual %.2e, contacts %d/%d/%d, depth %.3f/%.3f/%.3f cm\n", it,
                      st.rel_residual, kinds[0], kinds[1], kinds[2], depth[0], depth[1], depth[2]);
       }
-      if (!std::isfinite(st.rel_residual)) throw Error("simulation diverged (non-finite forces)");
+      if (!std::isfinite(st.rel_residual)) {  // the recovering wrapper restarts the frame
+        st.finite = false;
+        break;
+      }
       if (st.rel_residual <= opt_.newton_tol) {
         if (resolve && detections < opt_.contact_detections_max && it < opt_.newton_max) {
           std::vector<ContactPlane> fresh;
@@ -192,6 +198,7 @@ class CpuSimulator final : public Simulator {
       x_.swap(xt);
     }
     st.energy = std::isnan(e_cur) ? energy(in, alpha, x_) : e_cur;
+    st.status = st.converged ? StepStatus::Converged : StepStatus::Unconverged;
     ++solved_frames_;
     if (contacts_) {
       // Measured on the final positions whether or not contacts were resolved.
@@ -286,7 +293,9 @@ class CpuSimulator final : public Simulator {
 
 std::unique_ptr<Simulator> make_cpu_simulator(const SimModel& model, const SolverOptions& opt,
                                               std::shared_ptr<ContactSource> contacts, bool resolve_contacts) {
-  return std::make_unique<CpuSimulator>(model, opt, std::move(contacts), resolve_contacts);
+  auto sim = std::make_unique<CpuSimulator>(model, opt, std::move(contacts), resolve_contacts);
+  if (!opt.recover) return sim;
+  return make_recovering_simulator(std::move(sim));
 }
 
 }  // namespace facesr

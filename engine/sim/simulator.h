@@ -30,6 +30,18 @@ struct SolverOptions {
   int contact_refresh_iters = 3;
   int contact_detections_max = 6;
   double penetration_tol_cm = 0.03;
+  // Divergence detection and recovery (sim/recovering_simulator.h): a frame
+  // counts as diverged when its forces or positions are not finite, its
+  // relative residual ends above diverged_residual (no closer to equilibrium
+  // than the rest pose with this frame's bones), or more tets are inverted
+  // than at rest plus max(32, diverged_inverted_fraction · tets). Such a
+  // frame is solved again from the last good state, then in control
+  // sub-steps, then in sub-steps with the accurate preset; if all fail the
+  // simulator goes back to the last good state and says so (StepStatus::Diverged).
+  bool recover = true;
+  double diverged_residual = 1.0;
+  double diverged_inverted_fraction = 0.02;
+  int recovery_substeps = 4;
 };
 
 // The game preset: at most 3 Newton steps of at most 60 CG iterations per
@@ -42,6 +54,13 @@ inline SolverOptions realtime_solver() {
   o.cg_max = 60;
   return o;
 }
+
+// What became of a frame. Unconverged: stopped at an iteration cap above
+// tolerance but sane. Recovered: diverged at first, then solved by the
+// recovery ladder (see SolverOptions::recover). Diverged: every recovery
+// failed; the state is the last good frame's.
+enum class StepStatus : int32_t { Converged = 0, Unconverged = 1, Recovered = 2, Diverged = 3 };
+const char* step_status_name(StepStatus s);
 
 struct StepStats {
   int newton_iters = 0;
@@ -60,6 +79,9 @@ struct StepStats {
   int contacts = 0;
   double max_penetration_cm = 0;
   std::vector<double> residuals;  // rel_residual before each Newton iteration and at the end
+  bool finite = true;             // forces stayed finite throughout the solve
+  StepStatus status = StepStatus::Unconverged;  // set by the recovering wrapper (converged/unconverged without it)
+  int recoveries = 0;             // extra solves the recovery ladder ran on this frame
 };
 
 class Simulator {
@@ -80,7 +102,13 @@ class Simulator {
   // current state, over `repetitions` products (for benchmarks).
   virtual double time_stiffness_product(int repetitions) = 0;
   virtual const SimModel& model() const = 0;
+  virtual const SolverOptions& options() const = 0;
+  virtual void set_options(const SolverOptions& opt) = 0;
 };
+
+// True when a step's result is broken (see SolverOptions::recover); the
+// node positions' finiteness is checked by the caller that has them.
+bool step_diverged(const StepStats& st, const SimModel& m, const SolverOptions& opt, int rest_inverted);
 
 class ContactSource;
 // With `contacts`, every Newton iteration detects contacts and resolves them

@@ -36,6 +36,7 @@ json TrainSummary::to_json() const {
           {"best_epoch", best_epoch},
           {"train_frames", train_frames},
           {"validation_frames", validation_frames},
+          {"capped_left_out", capped_left_out},
           {"parameters", parameters},
           {"first_loss", first_loss},
           {"final_loss", final_loss},
@@ -160,7 +161,7 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
   validate(opt);
   const auto t_start = std::chrono::steady_clock::now();
   const uint64_t checksum = rig_checksum(rig);
-  const DatasetSplit data = load_dataset_split(opt.dataset_dir, checksum, opt.validation_every);
+  const DatasetSplit data = load_dataset_split(opt.dataset_dir, checksum, opt.validation_every, true, opt.keep_capped);
   require(data.num_hr == rig.num_surface_vertices(),
           opt.dataset_dir + ": the dataset has " + std::to_string(data.num_hr) + " surface vertices, the rig " +
               std::to_string(rig.num_surface_vertices()));
@@ -231,6 +232,7 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
   sum.device = dev.str();
   sum.epochs_planned = opt.epochs;
   sum.train_frames = int(data.train.size());
+  sum.capped_left_out = data.capped_left_out;
   sum.validation_frames = int(data.validation.size());
   for (const auto& p : net.module().parameters()) sum.parameters += p.numel();
 

@@ -33,6 +33,7 @@ struct TrainOptions {
   double relative_floor_cm = 0;
   int checkpoint_every = 10;    // epochs
   int validation_every = 10;    // hold out every n-th training frame (0: none)
+  bool keep_capped = false;     // train on HR frames that stopped above the Newton tolerance too
   int patience = 0;             // > 0: stop after this many epochs without a better validation error
   double time_limit_s = 0;      // > 0: checkpoint and stop after this much wall time (resume later)
   // Continue from a matching checkpoint (same data and settings; --epochs may
@@ -47,6 +48,7 @@ struct TrainSummary {
   std::string kind, device;
   int epochs_planned = 0, epochs_done = 0, resumed_from_epoch = 0, best_epoch = -1;
   int train_frames = 0, validation_frames = 0;
+  int capped_left_out = 0;  // train-split frames whose HR solve stopped above tolerance (see load_dataset_split)
   int64_t parameters = 0;
   double first_loss = 0, final_loss = 0;  // training loss of the first and last epoch run
   // Mean L1 error per HR vertex on the training batches of those epochs (cm);

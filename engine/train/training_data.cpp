@@ -31,12 +31,16 @@ struct Builder {
 }  // namespace
 
 DatasetSplit load_dataset_split(const std::string& dir, uint64_t rig_checksum, int validation_every,
-                                bool require_train) {
+                                bool require_train, bool keep_capped) {
   const DatasetManifest m = load_manifest(dir + "/manifest.json");
   require(m.rig_checksum == rig_checksum, dir + ": the dataset was made from rig '" + m.rig_name + "' (checksum " +
                                               hex64(m.rig_checksum) + "), not from this rig (checksum " +
                                               hex64(rig_checksum) + ")");
   Builder train, val, test;
+  const double hr_tol = m.extra.is_object() && m.extra.contains("hr_newton_tol") && m.extra["hr_newton_tol"].is_number()
+                            ? m.extra["hr_newton_tol"].get<double>()
+                            : 1e-3;
+  int capped = 0;
   for (const auto& e : m.sequences) {
     require(e.complete, dir + ": sequence '" + e.name + "' is not complete; finish it with `facesr dataset`");
     const DatasetSequence s = read_dataset_sequence(dir + "/" + e.file);
@@ -45,13 +49,19 @@ DatasetSplit load_dataset_split(const std::string& dir, uint64_t rig_checksum, i
     for (int f = 0; f < s.num_frames(); ++f) {
       const bool is_val = is_validation_frame(f, validation_every);
       Builder& b = e.split == "test" ? test : is_val ? val : train;
-      b.add(s.frame(f), e.name, f);
+      const DatasetFrame fr = s.frame(f);
+      if (&b != &test && !keep_capped && fr.stats.hr_rel_residual > hr_tol) {
+        ++capped;
+        continue;
+      }
+      b.add(fr, e.name, f);
     }
   }
   require(!require_train || !train.set.frame.empty(), dir + ": no training frames (no sequence has split \"train\")");
   DatasetSplit out;
   out.num_lr = m.num_lr_nodes;
   out.num_hr = m.num_surface;
+  out.capped_left_out = capped;
   if (!train.set.frame.empty()) out.train = train.finish(m.num_lr_nodes, m.num_surface);
   if (!val.set.frame.empty()) out.validation = val.finish(m.num_lr_nodes, m.num_surface);
   if (!test.set.frame.empty()) out.test = test.finish(m.num_lr_nodes, m.num_surface);

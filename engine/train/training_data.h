@@ -21,6 +21,11 @@ struct FrameSet {
 struct DatasetSplit {
   FrameSet train, validation, test;
   int num_lr = 0, num_hr = 0;
+  // Train-split frames left out because their HR solve stopped above the
+  // dataset's Newton tolerance (manifest extra "hr_newton_tol", 1e-3 when
+  // absent): capped or diverged references would teach the network a wrong
+  // surface. Test frames are all kept, so evaluations stay comparable.
+  int capped_left_out = 0;
 };
 
 // Reads <dir>/manifest.json and its sequences. Every `validation_every`-th
@@ -30,6 +35,6 @@ struct DatasetSplit {
 // training frames (when require_train), or any sequence is incomplete or
 // damaged.
 DatasetSplit load_dataset_split(const std::string& dir, uint64_t rig_checksum, int validation_every,
-                                bool require_train = true);
+                                bool require_train = true, bool keep_capped = false);
 
 }  // namespace facesr

@@ -185,6 +185,8 @@ static void test_context(facesr_context* ctx, const facesr_rig_info* info) {
   /* Bad values, unknown names, misuse of the pipeline. */
   EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_set_weight(ctx, 0, (float)NAN));
   EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_set_weight(ctx, 0, 1.5f));
+  EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_set_weight(ctx, 0, 1.11f));
+  EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_set_weight(ctx, 0, -0.11f));
   EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_set_weight(ctx, -1, 0.5f));
   w[0] = (float)NAN;
   EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_set_weights(ctx, w, info->num_blendshapes));
@@ -231,6 +233,59 @@ static void test_context(facesr_context* ctx, const facesr_rig_info* info) {
   free(w);
 }
 
+/* Capture overshoots within the documented tolerance are clamped, not refused. */
+static void test_weight_tolerance(facesr_context* ctx, const facesr_rig_info* info) {
+  float* w = (float*)calloc((size_t)info->num_blendshapes, sizeof *w);
+  w[0] = 1.04f;
+  w[1] = -0.05f;
+  EXPECT_STATUS(FACESR_OK, facesr_set_weights(ctx, w, info->num_blendshapes));
+  EXPECT_STATUS(FACESR_OK, facesr_set_weight(ctx, 0, 1.1f));
+  EXPECT_STATUS(FACESR_OK, facesr_set_weight(ctx, 0, -0.1f));
+  w[1] = 1.2f;
+  EXPECT_STATUS(FACESR_ERROR_INVALID_ARGUMENT, facesr_set_weights(ctx, w, info->num_blendshapes));
+  CHECK(strstr(facesr_last_error_message(), "1.1") != NULL); /* names the tolerance */
+  EXPECT_STATUS(FACESR_OK, facesr_context_reset(ctx));
+  free(w);
+}
+
+/* A frame the simulation cannot solve (the jaw thrown 3 m away) says so in
+ * its status and returns the last good surface, and the next sane frame
+ * plays again. */
+static void test_divergence(facesr_context* ctx, const facesr_rig_info* info) {
+  const int64_t n = 3 * (int64_t)info->num_surface_vertices;
+  float* good = (float*)malloc((size_t)n * sizeof *good);
+  float* pos = (float*)malloc((size_t)n * sizeof *pos);
+  const float R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, far[3] = {0, -300, 0};
+  facesr_frame_stats st;
+  memset(&st, 0, sizeof st);
+  st.struct_size = sizeof st;
+  EXPECT_STATUS(FACESR_OK, facesr_set_weight_by_name(ctx, "jawOpen", 0.3f));
+  EXPECT_STATUS(FACESR_OK, facesr_step(ctx));
+  EXPECT_STATUS(FACESR_OK, facesr_get_frame_stats(ctx, &st));
+  CHECK(st.simulation_status == FACESR_FRAME_CONVERGED || st.simulation_status == FACESR_FRAME_UNCONVERGED);
+  CHECK(st.recoveries == 0);
+  EXPECT_STATUS(FACESR_OK, facesr_get_positions(ctx, good, n));
+
+  EXPECT_STATUS(FACESR_OK, facesr_set_jaw_transform(ctx, R, far));
+  EXPECT_STATUS(FACESR_OK, facesr_step(ctx));
+  EXPECT_STATUS(FACESR_OK, facesr_get_frame_stats(ctx, &st));
+  CHECK(st.simulation_status == FACESR_FRAME_DIVERGED);
+  CHECK(st.recoveries > 0);
+  EXPECT_STATUS(FACESR_OK, facesr_get_positions(ctx, pos, n));
+  CHECK(all_finite(pos, n));
+  CHECK(max_abs_diff(pos, good, n) == 0); /* the last good surface, not the broken one */
+
+  EXPECT_STATUS(FACESR_OK, facesr_clear_jaw_transform(ctx));
+  EXPECT_STATUS(FACESR_OK, facesr_step(ctx));
+  EXPECT_STATUS(FACESR_OK, facesr_get_frame_stats(ctx, &st));
+  CHECK(st.simulation_status != FACESR_FRAME_DIVERGED);
+  EXPECT_STATUS(FACESR_OK, facesr_get_positions(ctx, pos, n));
+  CHECK(all_finite(pos, n));
+  EXPECT_STATUS(FACESR_OK, facesr_context_reset(ctx));
+  free(good);
+  free(pos);
+}
+
 int main(int argc, char** argv) {
   facesr_rig* rig = NULL;
   facesr_model* model = NULL;
@@ -253,6 +308,8 @@ int main(int argc, char** argv) {
   test_create_errors(rig, model);
   if ((ctx = create(rig, model)) != NULL) {
     test_context(ctx, &info);
+    test_weight_tolerance(ctx, &info);
+    test_divergence(ctx, &info);
     facesr_context_destroy(ctx);
   }
   facesr_model_free(model);

@@ -51,5 +51,8 @@ fn main() {
         newton_iterations,
         cg_iterations,
         relative_residual,
+        simulation_status,
+        inverted_tets,
+        recoveries,
     });
 }

@@ -39,6 +39,11 @@ pub const FACESR_PRECISION_FLOAT: i32 = 2;
 pub const FACESR_INFERENCE_OPENCL: i32 = 0;
 pub const FACESR_INFERENCE_CPU: i32 = 1;
 
+pub const FACESR_FRAME_CONVERGED: i32 = 0;
+pub const FACESR_FRAME_UNCONVERGED: i32 = 1;
+pub const FACESR_FRAME_RECOVERED: i32 = 2;
+pub const FACESR_FRAME_DIVERGED: i32 = 3;
+
 // Opaque handles: never constructed or moved in Rust, only pointed to. The
 // marker keeps them !Send, !Sync and !Unpin; the safe crate decides what may
 // cross threads.
@@ -125,7 +130,12 @@ pub struct facesr_frame_stats {
     pub newton_iterations: i32,
     pub cg_iterations: i32,
     pub relative_residual: f32,
+    pub simulation_status: i32,
+    pub inverted_tets: i32,
+    pub recoveries: i32,
 }
+
+
 
 extern "C" {
     // status

@@ -120,6 +120,32 @@ static CREATE_LOCK: Mutex<()> = Mutex::new(());
 /// Timings and solver effort of the latest readable frame.
 pub type FrameStats = sys::facesr_frame_stats;
 
+/// What became of a frame's LR solve (`FACESR_FRAME_*`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FrameStatus {
+    /// Reached the solver's tolerance.
+    Converged,
+    /// Stopped at the iteration cap above tolerance (normal for the real-time preset).
+    Unconverged,
+    /// Diverged at first, solved by the recovery.
+    Recovered,
+    /// Recovery failed: the last good surface was returned.
+    Diverged,
+}
+
+impl FrameStatus {
+    /// The status of `stats.simulation_status`; `None` for a value this crate does not know.
+    pub fn from_stats(stats: &FrameStats) -> Option<FrameStatus> {
+        match stats.simulation_status {
+            sys::FACESR_FRAME_CONVERGED => Some(FrameStatus::Converged),
+            sys::FACESR_FRAME_UNCONVERGED => Some(FrameStatus::Unconverged),
+            sys::FACESR_FRAME_RECOVERED => Some(FrameStatus::Recovered),
+            sys::FACESR_FRAME_DIVERGED => Some(FrameStatus::Diverged),
+            _ => None,
+        }
+    }
+}
+
 /// One face's mutable state (`facesr_context`).
 ///
 /// Ownership: a context holds `Arc` clones of its rig and model, so it is

@@ -37,7 +37,7 @@ mod context;
 mod error;
 mod rig;
 
-pub use context::{Context, ContextOptions, FrameStats, Inference, Precision, Solver, SphereDef, SphereId, SpringDef, SpringId};
+pub use context::{Context, ContextOptions, FrameStats, FrameStatus, Inference, Precision, Solver, SphereDef, SphereId, SpringDef, SpringId};
 pub use error::{Error, Result, Status};
 pub use facesr_sys as sys;
 pub use rig::{Model, ModelInfo, Rig, RigInfo};
