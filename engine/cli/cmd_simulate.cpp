@@ -6,13 +6,18 @@
 #include <cstring>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_report.h"
+#include "bench/robustness_bench.h"
 #include "bench/sim_bench.h"
+#include "cli/arg_lists.h"
 #include "cli/commands.h"
 #include "collide/mouth_collider.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "perf/livelink_csv.h"
@@ -312,10 +317,148 @@ void register_simulate(CLI::App& app) {
   });
 }
 
+namespace {
+
+std::string robustness_markdown(const nlohmann::json& heads, const std::string& res, const std::string& preset,
+                                const std::string& device, int extreme_frames) {
+  std::ostringstream md;
+  md << "Robustness run (`facesr bench robustness`, " << res << " resolution, " << preset << " preset, " << device
+     << "), " << machine_description() << ", " << heads.size() << " rigs; per rig every performance from rest: "
+     << "the Live Link takes, the built-ins and " << extreme_frames << " extreme control frames.\n\n"
+     << "| rig | frames | unconverged | recovered | diverged | NaN | max inverted tets | max rel. residual | mean ms | p95 ms |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|\n";
+  RobustnessRow all;
+  std::vector<RobustnessRow> totals;
+  char line[400];
+  for (const auto& h : heads) {
+    const auto& t = h["total"];
+    RobustnessRow r;
+    r.frames = t["frames"];
+    r.unconverged = t["unconverged_frames"];
+    r.recovered = t["recovered_frames"];
+    r.diverged = t["diverged_frames"];
+    r.nan_frames = t["nan_frames"];
+    r.inverted_max = t["inverted_tets_max"];
+    r.max_rel_residual = t["max_rel_residual"];
+    r.mean_step_ms = t["mean_step_ms"];
+    r.p95_step_ms = t["p95_step_ms"];
+    totals.push_back(r);
+    std::snprintf(line, sizeof line, "| %s | %d | %d | %d | %d | %d | %d | %.2g | %.1f | %.1f |\n",
+                  h["rig"].get<std::string>().c_str(), r.frames, r.unconverged, r.recovered, r.diverged, r.nan_frames,
+                  r.inverted_max, r.max_rel_residual, r.mean_step_ms, r.p95_step_ms);
+    md << line;
+  }
+  const RobustnessRow t = robustness_total(totals);
+  std::snprintf(line, sizeof line, "| **all** | %d | %d | %d | **%d** | **%d** | %d | %.2g | %.1f | %.1f |\n\n", t.frames,
+                t.unconverged, t.recovered, t.diverged, t.nan_frames, t.inverted_max, t.max_rel_residual,
+                t.mean_step_ms, t.p95_step_ms);
+  md << line;
+  return md.str();
+}
+
+}  // namespace
+
 void register_bench(CLI::App& app) {
   auto* bench = app.add_subcommand("bench", "Benchmarks (results can be written into BENCHMARKS.md)");
   bench->require_subcommand(1);
   add_bench_runtime(bench);
+  {
+    struct RArgs {
+      std::vector<std::string> rigs, takes;
+      std::string builtins = "all", res = "low", results, markdown;
+      int extreme_frames = 1000, max_frames = 0;
+      unsigned seed = 1;
+      bool json = false, quiet = false;
+      SolverArgs solver;
+    };
+    static RArgs r;
+    auto* sub = bench->add_subcommand(
+        "robustness", "Every rig × every take, built-in and extreme control frame: unconverged, recovered, diverged and "
+                      "NaN frames, inverted tets, residuals, step times");
+    sub->add_option("--rig", r.rigs, "Rig files (one or more)")->required();
+    sub->add_option("--performance", r.takes, "Performance files (Live Link CSV read leniently, with warnings)");
+    sub->add_option("--builtins", r.builtins, "Comma-separated built-in performances, 'all' (default) or 'none'");
+    sub->add_option("--extreme-frames", r.extreme_frames, "Extreme control frames per rig (default 1000; 0: none)");
+    sub->add_option("--seed", r.seed, "Seed of the extreme frames (default 1)");
+    sub->add_option("--res", r.res, "low (default) | high (CPU reference with Embree contacts)");
+    sub->add_option("--max-frames", r.max_frames, "At most this many frames of each --performance file (0: all)");
+    sub->add_option("--results", r.results,
+                    "Folder keeping each rig's result as <rig file name>.json; a rig whose result is there is not run again");
+    sub->add_option("--markdown", r.markdown, "Write the table into this Markdown file (e.g. BENCHMARKS.md)");
+    sub->add_flag("--json", r.json, "Print every rig's rows (per performance and total) as JSON");
+    sub->add_flag("--quiet,-q", r.quiet, "No progress output");
+    r.solver.add(sub);
+    add_action(sub, [] {
+      require(r.extreme_frames >= 0 && r.max_frames >= 0, "--extreme-frames and --max-frames must be >= 0");
+      const Resolution res = parse_resolution(r.res);
+      if (!r.results.empty()) std::filesystem::create_directories(r.results);
+      nlohmann::json heads = nlohmann::json::array();
+      std::string device;
+      for (size_t k = 0; k < r.rigs.size(); ++k) {
+        const std::string& rig_path = r.rigs[k];
+        const std::string cache =
+            r.results.empty() ? "" : r.results + "/" + std::filesystem::path(rig_path).filename().string() + ".json";
+        if (!cache.empty() && std::filesystem::exists(cache)) {
+          std::ifstream in(cache);
+          heads.push_back(nlohmann::json::parse(in));
+          if (!r.quiet) std::fprintf(stderr, "[robustness] %s: result kept from %s\n", rig_path.c_str(), cache.c_str());
+          continue;
+        }
+        const Rig rig = load_rig(rig_path);
+        std::vector<Performance> perfs;
+        for (const auto& t : r.takes) {
+          LiveLinkReport rep;
+          Performance p = load_performance(t, rig.blendshape_names, LiveLinkOptions{}, &rep);
+          if (r.max_frames > 0 && p.frames() > r.max_frames) p.weights.resize(size_t(r.max_frames) * p.names.size());
+          perfs.push_back(std::move(p));
+        }
+        std::vector<std::string> names;
+        if (r.builtins == "all") names = builtin_performance_names();
+        else if (r.builtins != "none") names = split_list(r.builtins);
+        for (const auto& n : names) perfs.push_back(builtin_performance(n, rig.blendshape_names));
+        if (r.extreme_frames > 0)
+          perfs.push_back(robustness_extreme_frames(rig.blendshape_names, r.extreme_frames, r.seed));
+        const SimModel model = make_sim_model(rig, res);
+        std::unique_ptr<Simulator> sim;
+        if (res == Resolution::High) {
+          auto collider = std::make_shared<MouthCollider>(rig, model, CollisionOptions{});
+          sim = make_cpu_simulator(model, r.solver.options(), collider, true);
+        } else {
+          sim = r.solver.make(model);
+        }
+        device = sim->device();
+        long total = 0;
+        for (const auto& p : perfs) total += p.frames();
+        Progress progress("robustness " + rig.name + " (" + std::to_string(k + 1) + "/" + std::to_string(r.rigs.size()) + ")",
+                          total, !r.quiet);
+        long done = 0;
+        const auto rows = run_robustness(*sim, rig, perfs, 0,
+                                         [&](const std::string& name) { progress.update(++done, name); });
+        progress.finish();
+        // Heads made from one source share its rig name: label them by file.
+        nlohmann::json h = {{"rig", std::filesystem::path(rig_path).stem().string()}, {"rig_name", rig.name}, {"rig_file", rig_path}, {"res", r.res}, {"solver_preset", r.solver.preset},
+                            {"device", device}, {"total", robustness_total(rows).to_json()}, {"units", "cm, ms"}};
+        h["performances"] = nlohmann::json::array();
+        for (const auto& row : rows) h["performances"].push_back(row.to_json());
+        if (!cache.empty())
+          write_file_atomically(cache, [&](std::ostream& out) { out << h.dump(2) << "\n"; });
+        heads.push_back(h);
+      }
+      if (!r.markdown.empty())
+        update_markdown_section(r.markdown, "bench-robustness-" + r.res + "-" + r.solver.preset + "-" + machine_slug(),
+                                robustness_markdown(heads, r.res, r.solver.preset, device.empty() ? "cached results" : device,
+                                                    r.extreme_frames));
+      int diverged = 0, nan = 0;
+      for (const auto& h : heads) diverged += h["total"]["diverged_frames"].get<int>(), nan += h["total"]["nan_frames"].get<int>();
+      nlohmann::json j = {{"rigs", heads.size()}, {"diverged_frames", diverged}, {"nan_frames", nan}, {"heads", heads}};
+      if (r.json)
+        std::printf("%s\n", j.dump(2).c_str());
+      else
+        std::printf("%s", robustness_markdown(heads, r.res, r.solver.preset, device, r.extreme_frames).c_str());
+      require(diverged == 0 && nan == 0, std::to_string(diverged) + " diverged and " + std::to_string(nan) +
+                                             " NaN frames over the corpus");
+    });
+  }
   struct Args {
     std::string rig, res = "low", builtin = "talk", markdown;
     int frames = 60;

@@ -357,6 +357,38 @@ static partial class FacesrTests
         }
     }
 
+    // A frame the simulation cannot solve (the jaw thrown 3 m away) says so
+    // and returns the last good surface; the next sane frame plays again.
+    static void DivergedFrameKeepsTheLastGoodSurface()
+    {
+        using (var rig = Rig.Load(rigPath))
+        using (var model = Model.Load(modelPath))
+        using (var c = NewContext(rig, model))
+        {
+            c.SetWeight("jawOpen", 0.3f);
+            c.Step();
+            FrameStats st = c.GetFrameStats();
+            Check(st.Status == FrameStatus.Converged || st.Status == FrameStatus.Unconverged, "a sane frame: " + st.Status);
+            Check(st.Recoveries == 0, "no recovery needed");
+            var good = new float[c.PositionFloats];
+            c.GetPositions(good);
+            float[] identity = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+            c.SetJawTransform(identity, new Float3(0, -300, 0));
+            c.Step();
+            st = c.GetFrameStats();
+            Check(st.Status == FrameStatus.Diverged, "the thrown jaw diverges: " + st.Status);
+            Check(st.Recoveries > 0, "recovery was tried");
+            var pos = new float[good.Length];
+            c.GetPositions(pos);
+            Check(AllFinite(pos) && MaxAbsDiff(pos, good) == 0, "the last good surface is returned");
+            c.ClearJawTransform();
+            c.Step();
+            Check(c.GetFrameStats().Status != FrameStatus.Diverged, "the next sane frame plays");
+            c.SetWeight("jawOpen", 1.05f);  // a capture overshoot: clamped
+            ExpectStatus(Status.InvalidArgument, "1.1", () => c.SetWeight("jawOpen", 1.2f));
+        }
+    }
+
     static void NullAndDisposedHandles()
     {
         // NULL handles reach the library, which names them.

@@ -108,6 +108,7 @@ static partial class FacesrTests
             new KeyValuePair<string, Action>("AsyncEqualsSync", AsyncEqualsSync),
             new KeyValuePair<string, Action>("SpringsAndSpheres", SpringsAndSpheres),
             new KeyValuePair<string, Action>("JawTransform", JawTransform),
+            new KeyValuePair<string, Action>("DivergedFrameKeepsTheLastGoodSurface", DivergedFrameKeepsTheLastGoodSurface),
             new KeyValuePair<string, Action>("NullAndDisposedHandles", NullAndDisposedHandles),
             new KeyValuePair<string, Action>("ContextKeepsRigAndModelAlive", ContextKeepsRigAndModelAlive),
             new KeyValuePair<string, Action>("ContextsOnTwoThreads", ContextsOnTwoThreads),

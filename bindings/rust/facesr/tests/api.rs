@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use facesr::{sys, Context, Model, Rig, SphereDef, SpringDef, SpringId, Status};
+use facesr::{sys, Context, FrameStatus, Model, Rig, SphereDef, SpringDef, SpringId, Status};
 use std::sync::Arc;
 
 fn assert_status<T: std::fmt::Debug>(r: facesr::Result<T>, want: Status, needle: &str) {
@@ -266,6 +266,37 @@ fn jaw_transform() {
     c.get_positions(&mut pos).unwrap();
     assert!(max_abs_diff(&pos, &rest) > 0.01, "the jaw moved down");
     c.clear_jaw_transform().unwrap();
+}
+
+/// A frame the simulation cannot solve (the jaw thrown 3 m away) says so and
+/// returns the last good surface; the next sane frame plays again.
+#[test]
+fn diverged_frame_keeps_the_last_good_surface() {
+    let mut c = context();
+    let n = c.position_len();
+    c.set_weight_by_name("jawOpen", 0.3).unwrap();
+    c.step().unwrap();
+    let st = c.frame_stats().unwrap();
+    let status = FrameStatus::from_stats(&st);
+    assert!(matches!(status, Some(FrameStatus::Converged) | Some(FrameStatus::Unconverged)), "{:?}", status);
+    assert_eq!(st.recoveries, 0);
+    let mut good = vec![0.0; n];
+    c.get_positions(&mut good).unwrap();
+    let identity = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+    c.set_jaw_transform(&identity, &[0.0, -300.0, 0.0]).unwrap();
+    c.step().unwrap();
+    let st = c.frame_stats().unwrap();
+    assert_eq!(FrameStatus::from_stats(&st), Some(FrameStatus::Diverged));
+    assert!(st.recoveries > 0);
+    let mut pos = vec![0.0; n];
+    c.get_positions(&mut pos).unwrap();
+    assert!(pos.iter().all(|v| v.is_finite()));
+    assert_eq!(max_abs_diff(&pos, &good), 0.0, "the last good surface is returned");
+    c.clear_jaw_transform().unwrap();
+    c.step().unwrap();
+    assert_ne!(FrameStatus::from_stats(&c.frame_stats().unwrap()), Some(FrameStatus::Diverged));
+    c.set_weight_by_name("jawOpen", 1.05).unwrap(); // a capture overshoot: clamped
+    assert_status(c.set_weight_by_name("jawOpen", 1.2), Status::InvalidArgument, "1.1");
 }
 
 #[test]
