@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/robustness_bench.h"
 #include "perf/sequence_io.h"
 #include "rig/rig_io.h"
 #include "test_support.h"
@@ -101,4 +102,48 @@ TEST_F(SimCli, BenchSimReportsTimingsAndWritesMarkdown) {
   EXPECT_NE(md.find("kept text"), std::string::npos);
   EXPECT_NE(md.find("LR simulation step"), std::string::npos);
   EXPECT_NE(md.find("bench-sim-realtime"), std::string::npos);
+}
+
+TEST_F(SimCli, BenchRobustnessCountsEveryFrameAndResumesFromItsResults) {
+  const std::string args = "bench robustness --rig " + q("p.rig") + " --builtins talk --extreme-frames 40 --solver realtime --results " +
+                           q("rob") + " --markdown " + q("rob.md") + " --json -q";
+  auto r = run(args);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["rigs"], 1);
+  EXPECT_EQ(j["diverged_frames"], 0);
+  EXPECT_EQ(j["nan_frames"], 0);
+  const auto& h = j["heads"][0];
+  EXPECT_EQ(h["rig"], "p");
+  ASSERT_EQ(h["performances"].size(), 2u);
+  EXPECT_EQ(h["performances"][1]["performance"], "extremes");
+  EXPECT_EQ(h["performances"][1]["frames"], 40);
+  const auto& t = h["total"];
+  for (const char* k : {"frames", "unconverged_frames", "recovered_frames", "diverged_frames", "nan_frames",
+                        "inverted_tets_max", "max_rel_residual", "mean_step_ms", "p95_step_ms"})
+    EXPECT_TRUE(t.contains(k)) << k;
+  EXPECT_EQ(t["frames"].get<int>(), h["performances"][0]["frames"].get<int>() + 40);
+  EXPECT_NE(fixtures::read_text(path("rob.md")).find("| p |"), std::string::npos);
+  // Run again: the rig's result is read back, not recomputed.
+  r = run(args);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["heads"][0]["total"], t);
+}
+
+TEST(RobustnessFrames, AreSeededFarApartAndInRange) {
+  const std::vector<std::string> names = {"jawOpen", "jawLeft", "jawRight", "jawForward", "mouthSmile_L"};
+  const Performance a = robustness_extreme_frames(names, 200, 3), b = robustness_extreme_frames(names, 200, 3);
+  ASSERT_EQ(a.frames(), 200);
+  EXPECT_EQ(a.weights, b.weights);
+  EXPECT_NE(a.weights, robustness_extreme_frames(names, 200, 4).weights);
+  for (float w : a.weights) ASSERT_TRUE(w >= 0 && w <= 1);
+  // Every shape alone at full weight comes first, each followed by rest.
+  for (size_t s = 0; s < names.size(); ++s) {
+    EXPECT_EQ(a.frame(int(2 * s))[s], 1.0f);
+    for (size_t k = 0; k < names.size(); ++k) EXPECT_EQ(a.frame(int(2 * s + 1))[k], 0.0f);
+  }
+  // The four jaw shapes together appear.
+  bool all_jaw = false;
+  for (int f = 0; f < a.frames(); ++f) all_jaw |= a.frame(f)[0] == 1 && a.frame(f)[1] == 1 && a.frame(f)[2] == 1 && a.frame(f)[3] == 1;
+  EXPECT_TRUE(all_jaw);
 }

@@ -3,12 +3,16 @@
 // round-trips and refuses the wrong rig or a damaged file, and the CLI.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
 #include "core/binary_io.h"
+#include "dataset/dataset_io.h"
+#include "dataset/dataset_manifest.h"
 #include "dataset/generate.h"
+#include "sim/simulator.h"
 #include "rig/rig_io.h"
 #include "sr/sr_model.h"
 #include "test_support.h"
@@ -73,6 +77,35 @@ TEST_F(TrainTiny, DatasetSplitHoldsOutValidationFramesAndKeepsTheTestSplitApart)
   EXPECT_EQ(s.train.hr.size(1), s.num_hr);
   const std::string e = fixtures::error_of([&] { load_dataset_split(path("data"), 12345, 4); });
   EXPECT_NE(e.find("not from this rig"), std::string::npos) << e;
+}
+
+TEST_F(TrainTiny, HrFramesStoppedAboveTheToleranceAreLeftOutOfTrainingOnly) {
+  fs::copy(path("data"), path("capped"), fs::copy_options::recursive);
+  DatasetManifest m = load_manifest(path("capped/manifest.json"));
+  ASSERT_TRUE(m.extra.contains("hr_newton_tol"));
+  EXPECT_DOUBLE_EQ(m.extra["hr_newton_tol"].get<double>(), SolverOptions{}.newton_tol);
+  // Pretend the HR solver had a tolerance that half of pain's frames missed.
+  const DatasetSequence pain = read_dataset_sequence(path("capped/") + m.find("pain")->file);
+  std::vector<float> r;
+  for (const auto& f : pain.frames) r.push_back(f.stats.hr_rel_residual);
+  std::vector<float> sorted = r;
+  std::sort(sorted.begin(), sorted.end());
+  const double tol = sorted[sorted.size() / 2];
+  int above = 0;
+  for (float v : r) above += v > tol;
+  ASSERT_GT(above, 0);
+  ASSERT_LT(above, int(r.size()));
+  m.extra["hr_newton_tol"] = tol;
+  save_manifest(path("capped/manifest.json"), m);
+  const uint64_t checksum = rig_checksum(fixtures::procedural_rig());
+  const DatasetSplit s = load_dataset_split(path("capped"), checksum, 4);
+  EXPECT_EQ(s.capped_left_out, above);
+  EXPECT_EQ(s.train.size() + s.validation.size(), 12 - above);
+  for (size_t i = 0; i < s.train.frame.size(); ++i) EXPECT_LE(r[size_t(s.train.frame[i])], tol);
+  EXPECT_EQ(s.test.size(), 12);  // the test split is never filtered
+  const DatasetSplit all = load_dataset_split(path("capped"), checksum, 4, true, /*keep_capped=*/true);
+  EXPECT_EQ(all.capped_left_out, 0);
+  EXPECT_EQ(all.train.size(), 9);
 }
 
 TEST_F(TrainTiny, LossFallsAndTheModelFileReproducesTheNetwork) {
