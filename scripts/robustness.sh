@@ -29,7 +29,7 @@ for s in $(seq 1 "$HEADS"); do
   if [[ ! -f $rig ]]; then
     echo "[robustness] head $s/$HEADS: generating and building its rig" >&2
     rm -rf "$OUT/head_tmp"
-    $FACESR head identity --ict "$ICT" --identities "$IDS" --seed "$s" --max-sigma 3 -o "$OUT/head_tmp" > "$OUT/head$(printf %02d "$s").json"
+    $FACESR head identity --ict "$ICT" --identities "$IDS" --seed "$s" --max-sigma 3 -o "$OUT/head_tmp" --json > "$OUT/head$(printf %02d "$s").json"
     $FACESR rig build --source "$OUT/head_tmp" -o "$rig" -q > /dev/null
     rm -rf "$OUT/head_tmp"  # 137 MB of OBJs; the weights are in headNN.json
   fi
