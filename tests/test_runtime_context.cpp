@@ -157,7 +157,19 @@ TEST_F(RuntimeFixture, CpuAndOpenClInferenceAgree) {
 TEST_F(RuntimeFixture, ControlsAreValidatedAndErrorsLeaveTheContextUsable) {
   RuntimeContext c(rig_, model_);
   EXPECT_NE(fixtures::error_of([&] { c.set_weight(0, std::nanf("")); }).find("not finite"), std::string::npos);
-  EXPECT_NE(fixtures::error_of([&] { c.set_weight(0, 1.5f); }).find("outside [0, 1]"), std::string::npos);
+  EXPECT_NE(fixtures::error_of([&] { c.set_weight(0, 1.5f); }).find("outside [-0.1, 1.1]"), std::string::npos);
+  // Capture overshoots within the tolerance are clamped, like the Live Link import's.
+  EXPECT_NO_THROW(c.set_weight(0, 1.08f));
+  EXPECT_NO_THROW(c.set_weights(std::vector<float>(size_t(c.num_weights()), -0.05f)));
+  c.reset();
+  c.set_weight(0, 1.08f);
+  c.step();
+  const std::vector<float> over = c.result().positions;
+  c.reset();
+  c.set_weight(0, 1.0f);
+  c.step();
+  EXPECT_EQ(c.result().positions, over);  // 1.08 was taken as 1
+  c.reset();
   EXPECT_NE(fixtures::error_of([&] { c.set_weight(-1, 0.5f); }).find("out of range"), std::string::npos);
   EXPECT_NE(fixtures::error_of([&] { c.set_weight("noSuchShape", 0.5f); }).find("noSuchShape"), std::string::npos);
   EXPECT_NE(fixtures::error_of([&] { c.set_weights({0.5f}); }).find("weights given"), std::string::npos);

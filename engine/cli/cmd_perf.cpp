@@ -27,13 +27,11 @@ Performance load(const PerfArgs& a, const Rig& rig, nlohmann::json& csv) {
   report.rows = -1;  // stays -1 unless the file was a CSV
   LiveLinkOptions options;
   options.strict = a.strict;
-  Performance p = load_performance(a.performance, rig.blendshape_names, options, &report);
+  Performance p = load_performance_warned(a.performance, rig.blendshape_names, options, "perf", &report);
   if (report.rows >= 0) {
     csv = livelink_report_json(report);
     if (!a.quiet)
       std::fprintf(stderr, "[perf] %s: %s\n", a.performance.c_str(), livelink_report_summary(report).c_str());
-    for (const std::string& w : report.warnings)
-      std::fprintf(stderr, "[perf] %s: warning: %s\n", a.performance.c_str(), w.c_str());
   }
   return p;
 }

@@ -64,11 +64,7 @@ struct RuntimeArgs {
     if (performance.empty()) return builtin_performance(builtin.empty() ? "talk" : builtin, rig.blendshape_names);
     LiveLinkOptions o;
     o.strict = strict;
-    LiveLinkReport report;
-    Performance p = load_performance(performance, rig.blendshape_names, o, &report);
-    for (const std::string& w : report.warnings)
-      std::fprintf(stderr, "[play] %s: warning: %s\n", performance.c_str(), w.c_str());
-    return p;
+    return load_performance_warned(performance, rig.blendshape_names, o, "play");
   }
 };
 

@@ -81,11 +81,7 @@ Performance load_perf(const std::string& path, const std::string& builtin, bool 
   if (path.empty()) return builtin_performance(builtin, rig.blendshape_names);
   LiveLinkOptions o;
   o.strict = strict;
-  LiveLinkReport report;
-  Performance p = load_performance(path, rig.blendshape_names, o, &report);
-  for (const std::string& w : report.warnings)
-    std::fprintf(stderr, "[simulate] %s: warning: %s\n", path.c_str(), w.c_str());
-  return p;
+  return load_performance_warned(path, rig.blendshape_names, o, "simulate");
 }
 
 void require_parent(const std::string& out) {
@@ -407,8 +403,7 @@ void register_bench(CLI::App& app) {
         const Rig rig = load_rig(rig_path);
         std::vector<Performance> perfs;
         for (const auto& t : r.takes) {
-          LiveLinkReport rep;
-          Performance p = load_performance(t, rig.blendshape_names, LiveLinkOptions{}, &rep);
+          Performance p = load_performance_warned(t, rig.blendshape_names, LiveLinkOptions{}, "robustness");
           if (r.max_frames > 0 && p.frames() > r.max_frames) p.weights.resize(size_t(r.max_frames) * p.names.size());
           perfs.push_back(std::move(p));
         }

@@ -126,11 +126,7 @@ DatasetSummary generate_dataset(const Rig& rig, const std::string& rig_path, con
   std::vector<Performance> perfs;
   for (const auto& b : opt.builtins) perfs.push_back(builtin_performance(b, rig.blendshape_names));
   for (const auto& f : opt.files) {
-    LiveLinkReport report;
-    perfs.push_back(load_performance(f, rig.blendshape_names, opt.csv, &report));
-    // Even without progress output: a repaired capture is not the motion the file claims.
-    for (const std::string& w : report.warnings)
-      std::fprintf(stderr, "[dataset] %s: warning: %s\n", f.c_str(), w.c_str());
+    perfs.push_back(load_performance_warned(f, rig.blendshape_names, opt.csv, "dataset"));
     if (perfs.back().name.empty()) perfs.back().name = fs::path(f).stem().string();
   }
   for (size_t i = 0; i < perfs.size(); ++i) {

@@ -90,6 +90,12 @@ Performance load_performance(const std::string& path, const std::vector<std::str
                              LiveLinkReport* csv_report = nullptr);
 Performance load_performance(const std::string& path, const std::vector<std::string>& rig_names,
                              const LiveLinkOptions& csv, LiveLinkReport* csv_report = nullptr);
+// load_performance, then each repair's warning of a Live Link CSV printed on
+// stderr as "[tag] path: warning: ..." whatever the caller's verbosity: a
+// repaired capture is not quite the motion the file claims.
+Performance load_performance_warned(const std::string& path, const std::vector<std::string>& rig_names,
+                                    const LiveLinkOptions& csv, const std::string& tag,
+                                    LiveLinkReport* csv_report = nullptr);
 
 // Built-in performances at 30 fps: "smile", "jaw", "talk", "random",
 // "sparse" and its other takes "sparse-2" ... "sparse-99" (see
