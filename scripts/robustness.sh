@@ -26,14 +26,19 @@ mkdir -p "$OUT"
 rigs=()
 for s in $(seq 1 "$HEADS"); do
   rig=$OUT/head$(printf %02d "$s").rig
-  if [[ ! -f $rig ]]; then
+  if [[ ! -f $rig && ! -f $OUT/head$(printf %02d "$s").rig.failed ]]; then
     echo "[robustness] head $s/$HEADS: generating and building its rig" >&2
     rm -rf "$OUT/head_tmp"
     $FACESR head identity --ict "$ICT" --identities "$IDS" --seed "$s" --max-sigma 3 -o "$OUT/head_tmp" --json > "$OUT/head$(printf %02d "$s").json"
-    $FACESR rig build --source "$OUT/head_tmp" -o "$rig" -q > /dev/null
+    # A rig build that fails or hangs is a finding too: recorded, not fatal.
+    if ! timeout "${RIG_TIMEOUT:-600}" $FACESR rig build --source "$OUT/head_tmp" -o "$rig" -q > /dev/null 2> "$OUT/head$(printf %02d "$s").rig.err"; then
+      echo "[robustness] head $s: rig build failed or took over ${RIG_TIMEOUT:-600} s (see $OUT/head$(printf %02d "$s").rig.err)" >&2
+      rm -f "$rig"
+      touch "$OUT/head$(printf %02d "$s").rig.failed"
+    fi
     rm -rf "$OUT/head_tmp"  # 137 MB of OBJs; the weights are in headNN.json
   fi
-  rigs+=(--rig "$rig")
+  [[ -f $rig ]] && rigs+=(--rig "$rig")
 done
 takes=()
 for t in "$TAKES"/*.csv; do takes+=(--performance "$t"); done
