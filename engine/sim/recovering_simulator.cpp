@@ -8,16 +8,6 @@
 
 namespace facesr {
 
-const char* step_status_name(StepStatus s) {
-  switch (s) {
-    case StepStatus::Converged: return "converged";
-    case StepStatus::Unconverged: return "unconverged";
-    case StepStatus::Recovered: return "recovered";
-    case StepStatus::Diverged: return "diverged";
-  }
-  return "unknown";
-}
-
 bool step_diverged(const StepStats& st, const SimModel& m, const SolverOptions& opt, int rest_inverted) {
   if (!st.finite || !std::isfinite(st.rel_residual) || !std::isfinite(st.energy)) return true;
   if (st.rel_residual > opt.diverged_residual) return true;
@@ -67,13 +57,13 @@ class RecoveringSimulator final : public Simulator {
   StepStats step(const Controls& c) override {
     const SolverOptions base = s_->options();
     StepStats st = s_->step(c);  // validates c before touching the state
-    if (accept(st, base)) return finish(st, StepStatus::Converged, c);
+    if (accept(st, base)) return finish(st, false, c);
     int extra = 0;
     // 1. From the last good state, no extrapolation.
     s_->set_nodes(good_);
     st = s_->step(c);
     ++extra;
-    if (accept(st, base)) return finish(st, StepStatus::Recovered, c, extra);
+    if (accept(st, base)) return finish(st, true, c, extra);
     // 2. Sub-steps; 3. sub-steps with the accurate caps.
     for (int attempt = 0; attempt < 2; ++attempt) {
       SolverOptions o = base;
@@ -93,7 +83,7 @@ class RecoveringSimulator final : public Simulator {
         ok = accept(st, o);
       }
       s_->set_options(base);
-      if (ok) return finish(st, StepStatus::Recovered, c, extra);
+      if (ok) return finish(st, true, c, extra);
     }
     // Every attempt failed: the last good state stands.
     s_->set_nodes(good_);
@@ -133,12 +123,11 @@ class RecoveringSimulator final : public Simulator {
     s_->nodes(scratch_);
     return all_finite(scratch_);
   }
-  StepStats finish(StepStats st, StepStatus first_try, const Controls& c, int extra = 0) {
+  StepStats finish(StepStats st, bool recovered, const Controls& c, int extra = 0) {
     good_.swap(scratch_);
     good_controls_ = c;
     st.recoveries = extra;
-    st.status = first_try == StepStatus::Converged ? (st.converged ? StepStatus::Converged : StepStatus::Unconverged)
-                                                   : StepStatus::Recovered;
+    st.status = recovered ? StepStatus::Recovered : st.converged ? StepStatus::Converged : StepStatus::Unconverged;
     return st;
   }
 

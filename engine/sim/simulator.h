@@ -60,7 +60,6 @@ inline SolverOptions realtime_solver() {
 // recovery ladder (see SolverOptions::recover). Diverged: every recovery
 // failed; the state is the last good frame's.
 enum class StepStatus : int32_t { Converged = 0, Unconverged = 1, Recovered = 2, Diverged = 3 };
-const char* step_status_name(StepStatus s);
 
 struct StepStats {
   int newton_iters = 0;
