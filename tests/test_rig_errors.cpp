@@ -16,6 +16,7 @@
 
 #include "core/error.h"
 #include "mesh/obj_io.h"
+#include "mesh/tetrahedralize.h"
 #include "rig/ict_head.h"
 #include "test_support.h"
 
@@ -324,3 +325,37 @@ TEST_F(CliErrors, UnknownSubcommandFails) {
 }
 
 }  // namespace
+
+namespace {
+TriMesh unit_cube() {
+  TriMesh m;
+  m.V.resize(8, 3);
+  for (int i = 0; i < 8; ++i) m.V.row(i) << (i & 1), (i >> 1) & 1, (i >> 2) & 1;
+  m.F.resize(12, 3);
+  m.F << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+         2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5;
+  return m;
+}
+}  // namespace
+
+// TetGen's refinement is bounded: a mesh that would need more added points
+// than the bound is an error naming the bound, never an unbounded run (an
+// identity head's sliver bone surface kept TetGen busy for over 15 minutes).
+TEST(Tetrahedralize, RefinementBoundIsAnError) {
+  TetgenOptions opt;
+  opt.preserve_boundary = false;  // -Y keeps a cube's 12 triangles unsplit, and then nothing refines
+  opt.max_volume = 0.00002;  // cm³: ~110,000 tets in a 1 cm cube, ~21,000 added points
+  try {
+    tetrahedralize(unit_cube(), {}, opt);
+    FAIL() << "expected the Steiner bound to be reached";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("did not converge"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("10000"), std::string::npos) << e.what();
+  }
+  opt.max_steiner_per_input = 0;  // unbounded: the same mesh succeeds
+  const TetMesh m = tetrahedralize(unit_cube(), {}, opt);
+  EXPECT_GT(m.X.rows(), 10000);
+  opt.max_volume = 0.01;  // a modest mesh stays well inside the default bound
+  opt.max_steiner_per_input = 40;
+  EXPECT_GT(tetrahedralize(unit_cube(), {}, opt).T.rows(), 100);
+}

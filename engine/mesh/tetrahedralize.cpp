@@ -1,6 +1,7 @@
 #include "mesh/tetrahedralize.h"
 
 #include <cstdio>
+#include <algorithm>
 #include <cstdlib>
 #include <sstream>
 
@@ -61,6 +62,11 @@ TetMesh tetrahedralize(const TriMesh& b, const std::vector<Vec3>& holes, const T
   sw << "pz" << (std::getenv("FACESR_TETGEN_VERBOSE") ? "V" : "Q") << "q" << opt.radius_edge << "/" << opt.min_dihedral;
   if (opt.max_volume > 0) sw << "a" << opt.max_volume;
   if (opt.preserve_boundary) sw << "Y";
+  long steiner_cap = 0;
+  if (opt.max_steiner_per_input > 0) {
+    steiner_cap = std::max(10000L, long(opt.max_steiner_per_input * double(in.numberofpoints)));
+    sw << "S" << steiner_cap;
+  }
   std::string switches = sw.str();
   try {
     ::tetrahedralize(const_cast<char*>(switches.c_str()), &in, &out);
@@ -68,6 +74,11 @@ TetMesh tetrahedralize(const TriMesh& b, const std::vector<Vec3>& holes, const T
     throw Error("TetGen failed: " + tetgen_error(code));
   }
   require(out.numberoftetrahedra > 0, "TetGen produced no tetrahedra (is the surface closed?)");
+  const long added = long(out.numberofpoints) - long(in.numberofpoints);
+  if (steiner_cap > 0 && added >= steiner_cap)
+    throw Error("TetGen quality refinement did not converge: it reached its bound of " + std::to_string(steiner_cap) +
+                " added points (" + std::to_string(in.numberofpoints) +
+                " input points); the boundary surface has slivers or features too small for the quality bound");
   TetMesh m;
   m.X.resize(out.numberofpoints, 3);
   for (int i = 0; i < out.numberofpoints; ++i)

@@ -12,6 +12,11 @@ struct TetgenOptions {
   double min_dihedral = 10.0;   // TetGen -q second bound (degrees)
   double max_volume = 0;        // -a bound in cm³; 0 = none
   bool preserve_boundary = true;  // -Y: boundary triangles kept as given (skin conforms exactly)
+  // -S bound on added (Steiner) points, as a multiple of the input points; 0 =
+  // none. Quality refinement that needs more than this does not converge on
+  // the input (seen on a bone surface of sliver triangles) and would
+  // otherwise run for hours; reaching the bound is an error, not a mesh.
+  double max_steiner_per_input = 40;
 };
 
 // Conforming Delaunay tetrahedralisation of the volume bounded by a closed,

@@ -140,35 +140,17 @@ double FleshDomain::jaw_weight(const Vec3& p) const {
   return w;
 }
 
-TriMesh FleshDomain::bone_surface(double edge, bool verbose) const {
-  // Blur the indicator a little: thin bone plates where two thickness bands
-  // nearly meet are artefacts, and they fold when remeshed.
-  std::vector<float> g = bone_;
-  for (int it = 0; it < 2; ++it) {
-    std::vector<float> next = g;
-#pragma omp parallel for schedule(static)
-    for (int k = 1; k < grid_.nz - 1; ++k)
-      for (int j = 1; j < grid_.ny - 1; ++j)
-        for (int i = 1; i < grid_.nx - 1; ++i) {
-          const long c = grid_.index(i, j, k);
-          next[c] = 0.4f * g[c] + 0.1f * (g[c - 1] + g[c + 1] + g[c - grid_.nx] + g[c + grid_.nx] +
-                                          g[c - long(grid_.nx) * grid_.ny] + g[c + long(grid_.nx) * grid_.ny]);
-        }
-    g.swap(next);
-  }
-  TriMesh raw = marching_tets(grid_, g);
-  require(raw.F.rows() > 0, src_.name + ": no bone found under the skin (is the head too thin?)");
-  TriMesh m = remesh_isotropic(raw, edge, 3);
-  // Drop small shells (isolated bone specks where the thickness field dips):
-  // they would only make tiny cavities in the flesh.
-  int nc = 0;
-  const std::vector<int> comp = face_components(m.F, m.V.rows(), nc);
-  std::vector<double> area(nc, 0.0);
+namespace {
+// Drops small shells (isolated bone specks where the thickness field dips):
+// they would only make tiny cavities in the flesh.
+TriMesh drop_small_shells(const TriMesh& m, double min_area, int& shells, int& kept) {
+  const std::vector<int> comp = face_components(m.F, m.V.rows(), shells);
+  std::vector<double> area(shells, 0.0);
   for (int f = 0; f < m.F.rows(); ++f) {
     const Vec3 a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), c = m.V.row(m.F(f, 2));
     area[comp[f]] += 0.5 * (b - a).cross(c - a).norm();
   }
-  const double min_area = 4.0;  // cm²
+  kept = int(std::count_if(area.begin(), area.end(), [&](double a) { return a >= min_area; }));
   std::vector<int> keep_v(m.V.rows(), -1);
   std::vector<Vec3i> tris;
   int nv = 0;
@@ -187,25 +169,60 @@ TriMesh FleshDomain::bone_surface(double edge, bool verbose) const {
   out.V = V.topRows(nv);
   out.F.resize(long(tris.size()), 3);
   for (size_t t = 0; t < tris.size(); ++t) out.F.row(long(t)) = tris[t].cast<int32_t>().transpose();
-  // Remeshing can fold thin bone plates into themselves; TetGen needs a
-  // clean surface.
-  RepairReport rep;
-  try {
-    rep = repair_self_intersections(out);
-  } catch (const Error& e) {
-    // A piecewise-linear level set on a tetrahedral grid never intersects
-    // itself, so the unremeshed surface is a safe (if less regular) fallback.
-    if (verbose) std::fprintf(stderr, "[rig] bone surface: %s; using the unremeshed surface\n", e.what());
-    return raw;
-  }
-  if (verbose && rep.initial_pairs > 0)
-    std::fprintf(stderr, "[rig] bone surface: repaired %ld self-intersecting pairs (moved %ld vertices, max %.3f cm)\n",
-                 rep.initial_pairs, rep.moved, rep.max_displacement);
-  if (verbose)
-    std::fprintf(stderr, "[rig] bone surface: %ld vertices, %ld triangles, %d shells (%d kept)\n",
-                 long(out.V.rows()), long(out.F.rows()), nc,
-                 int(std::count_if(area.begin(), area.end(), [&](double a) { return a >= min_area; })));
   return out;
+}
+
+std::vector<float> blur_indicator(const Grid& grid, std::vector<float> g, int passes) {
+  for (int it = 0; it < passes; ++it) {
+    std::vector<float> next = g;
+#pragma omp parallel for schedule(static)
+    for (int k = 1; k < grid.nz - 1; ++k)
+      for (int j = 1; j < grid.ny - 1; ++j)
+        for (int i = 1; i < grid.nx - 1; ++i) {
+          const long c = grid.index(i, j, k);
+          next[c] = 0.4f * g[c] + 0.1f * (g[c - 1] + g[c + 1] + g[c - grid.nx] + g[c + grid.nx] +
+                                          g[c - long(grid.nx) * grid.ny] + g[c + long(grid.nx) * grid.ny]);
+        }
+    g.swap(next);
+  }
+  return g;
+}
+}  // namespace
+
+TriMesh FleshDomain::bone_surface(double edge, bool verbose) const {
+  const double min_area = 4.0;  // cm²
+  // Thin bone plates where two thickness bands nearly meet are artefacts of
+  // the thickness field, and remeshing folds them into themselves. A little
+  // blur removes most; when the folds survive repair, a stronger blur
+  // (thicker, smoother plates) is tried before giving up on a remeshed
+  // surface. The unremeshed level set (which cannot self-intersect) is not a
+  // fallback: it is ~30x finer than the target edge and TetGen's quality
+  // refinement on it did not finish in 15 minutes (identity head, seed 16).
+  std::string last_error;
+  for (const int passes : {2, 4, 8}) {
+    const TriMesh raw = marching_tets(grid_, blur_indicator(grid_, bone_, passes));
+    require(raw.F.rows() > 0, src_.name + ": no bone found under the skin (is the head too thin?)");
+    int shells = 0, kept = 0;
+    TriMesh out = drop_small_shells(remesh_isotropic(raw, edge, 3), min_area, shells, kept);
+    RepairReport rep;
+    try {
+      rep = repair_self_intersections(out);
+    } catch (const Error& e) {
+      last_error = e.what();
+      if (verbose)
+        std::fprintf(stderr, "[rig] bone surface (blur %d): %s; retrying with a stronger blur\n", passes, e.what());
+      continue;
+    }
+    if (verbose && rep.initial_pairs > 0)
+      std::fprintf(stderr, "[rig] bone surface: repaired %ld self-intersecting pairs (moved %ld vertices, max %.3f cm)\n",
+                   rep.initial_pairs, rep.moved, rep.max_displacement);
+    if (verbose)
+      std::fprintf(stderr, "[rig] bone surface: %ld vertices, %ld triangles, %d shells (%d kept), blur %d\n",
+                   long(out.V.rows()), long(out.F.rows()), shells, kept, passes);
+    return out;
+  }
+  throw Error(src_.name + ": could not make a clean bone surface (" + last_error +
+              "); try another --flesh-grid");
 }
 
 Vec3 predeform_point(const Vec3& x, double w, const Jaw& jaw, double angle_deg) {
