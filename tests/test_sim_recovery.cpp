@@ -19,15 +19,22 @@ namespace {
 // A stand-in solver whose "state" is the weight it last reached (stored in
 // node 0's x): a step converges when the weight moves by at most `reach`
 // and blows up (non-finite residual, NaN positions) otherwise; weights above
-// `ceiling` always blow up.
+// `ceiling` always blow up. Weights at or below `near_rest` are reached only
+// from the rest state (anywhere else Newton stalls, sane but far from
+// equilibrium: residual 5), as a frame near rest after an extreme one does.
 class ScriptedSimulator final : public Simulator {
  public:
-  ScriptedSimulator(const SimModel& m, double reach, double ceiling) : m_(m), reach_(reach), ceiling_(ceiling) { reset(); }
+  ScriptedSimulator(const SimModel& m, double reach, double ceiling, double near_rest = -1)
+      : m_(m), reach_(reach), ceiling_(ceiling), near_rest_(near_rest) {
+    reset();
+  }
   StepStats step(const Controls& c) override {
     ++steps;
     StepStats st;
     const double w = c.weights.at(0);
-    if (std::abs(w - x_[0]) <= reach_ && w <= ceiling_) {
+    if (w <= near_rest_ && x_[0] != 0) {
+      st.rel_residual = 5;
+    } else if (std::abs(w - x_[0]) <= reach_ && w <= ceiling_) {
       x_[0] = w;
       st.converged = true;
       st.rel_residual = 1e-4;
@@ -56,7 +63,7 @@ class ScriptedSimulator final : public Simulator {
   SimModel m_;
   SolverOptions opt_;
   std::vector<double> x_;
-  double reach_, ceiling_;
+  double reach_, ceiling_, near_rest_;
 };
 
 Controls weight(const SimModel& m, float w) {
@@ -128,6 +135,23 @@ TEST(SimRecovery, WhenEveryRungFailsTheLastGoodStateStands) {
   EXPECT_FLOAT_EQ(float(s[0]), 0.4f);
   // And the next reachable frame plays on from there.
   EXPECT_EQ(sim->step(weight(m, 0.6f)).status, StepStatus::Converged);
+}
+
+TEST(SimRecovery, AFrameNearRestAfterAnExtremeOneIsSolvedFromRest) {
+  const SimModel m = block();
+  auto raw = std::make_unique<ScriptedSimulator>(m, 1.0, 1.0, 0.05);
+  ScriptedSimulator* inner = raw.get();
+  auto sim = make_recovering_simulator(std::move(raw));
+  ASSERT_EQ(sim->step(weight(m, 1.0f)).status, StepStatus::Converged);
+  // From 1 (and every sub-step's state on the way) 0.02 stalls; from rest it solves.
+  const StepStats st = sim->step(weight(m, 0.02f));
+  EXPECT_EQ(st.status, StepStatus::Recovered);
+  EXPECT_EQ(st.recoveries, 1 + 4 + 8 + 1);  // restart, rung 2's 4 sub-steps, rung 3's 8, from rest
+  std::vector<double> x;
+  sim->nodes(x);
+  EXPECT_FLOAT_EQ(float(x[0]), 0.02f);
+  EXPECT_EQ(inner->steps, 1 + 1 + 1 + 4 + 8 + 1);
+  EXPECT_EQ(sim->options().newton_max, SolverOptions{}.newton_max);
 }
 
 TEST(SimRecovery, CriteriaNameEveryWayAFrameBreaks) {

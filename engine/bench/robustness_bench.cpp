@@ -78,7 +78,14 @@ nlohmann::json RobustnessRow::to_json() const {
           {"unconverged_frames", unconverged}, {"recovered_frames", recovered},
           {"diverged_frames", diverged},  {"nan_frames", nan_frames},
           {"inverted_tets_max", inverted_max}, {"max_rel_residual", max_rel_residual},
-          {"mean_step_ms", mean_step_ms}, {"p95_step_ms", p95_step_ms}};
+          {"mean_step_ms", mean_step_ms}, {"p95_step_ms", p95_step_ms}, {"failures", failures_json()}};
+}
+
+nlohmann::json RobustnessRow::failures_json() const {
+  nlohmann::json a = nlohmann::json::array();
+  for (const Failure& f : failures)
+    a.push_back({{"frame", f.frame}, {"rel_residual", f.rel_residual}, {"inverted_tets", f.inverted_tets}});
+  return a;
 }
 
 std::vector<RobustnessRow> run_robustness(Simulator& sim, const Rig& rig, const std::vector<Performance>& perfs,
@@ -104,6 +111,8 @@ std::vector<RobustnessRow> run_robustness(Simulator& sim, const Rig& rig, const 
       r.unconverged += st.status == StepStatus::Unconverged;
       r.recovered += st.status == StepStatus::Recovered;
       r.diverged += st.status == StepStatus::Diverged;
+      if (st.status == StepStatus::Diverged && r.failures.size() < RobustnessRow::kMaxFailures)
+        r.failures.push_back({f, st.rel_residual, st.inverted_tets});
       if (st.status != StepStatus::Diverged) {
         r.inverted_max = std::max(r.inverted_max, st.inverted_tets);
         r.max_rel_residual = std::max(r.max_rel_residual, st.rel_residual);

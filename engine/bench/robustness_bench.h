@@ -27,7 +27,17 @@ struct RobustnessRow {
   int inverted_max = 0;
   double max_rel_residual = 0;  // over frames that were not diverged
   double mean_step_ms = 0, p95_step_ms = 0;  // wall time per frame, recovery included
+  // The first diverged frames, so that a failure can be replayed: frame
+  // index, last attempt's relative residual and inverted tets.
+  struct Failure {
+    int frame = 0;
+    double rel_residual = 0;
+    int inverted_tets = 0;
+  };
+  std::vector<Failure> failures;  // at most kMaxFailures per row
+  static constexpr size_t kMaxFailures = 10;
   nlohmann::json to_json() const;
+  nlohmann::json failures_json() const;
 };
 
 // Runs each performance (from rest, frames in order) through `sim` and

@@ -13,7 +13,8 @@ namespace facesr {
 //   2. in recovery_substeps control sub-steps from the last good frame's
 //      controls to this frame's (weights, activations, jaw, spring and sphere
 //      stiffnesses ramped linearly);
-//   3. as 2 with the accurate preset's iteration caps and twice the sub-steps.
+//   3. as 2 with the accurate preset's iteration caps and twice the sub-steps;
+//   4. from the rest pose with the accurate preset's caps.
 // If all fail it returns to the last good state (its nodes and surface are
 // what the caller reads) with StepStatus::Diverged.
 // The factories make_cpu_simulator and make_cl_simulator apply it when
