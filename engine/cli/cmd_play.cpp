@@ -27,7 +27,7 @@ namespace {
 
 struct RuntimeArgs {
   std::string rig, model, builtin, performance, device, solver = "realtime", lr_precision = "auto";
-  bool cpu_inference = false, split_device = false, strict = false;
+  bool cpu_inference = false, split_device = false, strict = false, no_recover = false;
   void add(CLI::App* sub) {
     sub->add_option("--rig", rig, "Rig file")->required();
     sub->add_option("--model", model, "Trained network (.fsm) for this rig")->required();
@@ -41,6 +41,8 @@ struct RuntimeArgs {
     sub->add_option("--lr-precision", lr_precision,
                     "LR simulation arithmetic: auto (float with the realtime solver, double with accurate) | "
                     "double | float");
+    sub->add_flag("--no-recover", no_recover,
+                  "Divergence detection and recovery off (to measure their cost; a diverged frame is then returned as is)");
     sub->add_flag("--cpu-inference", cpu_inference, "The C++ reference inference instead of the OpenCL kernels");
     sub->add_flag("--split-device", split_device,
                   "Half the device's compute units for the simulation, half for the inference (faster with "
@@ -51,6 +53,7 @@ struct RuntimeArgs {
     o.device = compute::DeviceSelector::parse(device);
     require(solver == "realtime" || solver == "accurate", "--solver must be realtime or accurate, not '" + solver + "'");
     o.solver = solver == "realtime" ? realtime_solver() : SolverOptions{};
+    o.solver.recover = !no_recover;
     o.cpu_inference = cpu_inference;
     o.split_device = split_device;
     require(lr_precision == "auto" || lr_precision == "double" || lr_precision == "float",
