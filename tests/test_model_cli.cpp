@@ -1,9 +1,10 @@
-// `facesr model info`, `zero-rest`, `rebind` and `blend` through the real binary: a
+// `facesr model info`, `zero-rest`, `rebind`, `transfer` and `blend` through the real binary: a
 // copy differs from its source only in what the command changes (and says so
 // in its training record), and bad input fails with a message and no output
 // file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -96,6 +97,30 @@ TEST_F(ModelCli, RebindCarriesAModelOverToARigWithItsGeometryAndNoOther) {
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("belongs to rig 'procedural', not 'other'"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(path("o.fsm")));
+}
+
+TEST_F(ModelCli, TransferWritesAModelBoundToTheRigAndReportsWhatItRecomputed) {
+  const SrModel src = load_sr_model(shipped());
+  const auto r = run("model transfer " + fixtures::shell_quote(shipped()) + " --rig " + q("p.rig") + " -o " +
+                     q("t.fsm") + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("to_num_lr").get<int>(), src.num_lr);
+  EXPECT_EQ(j.at("pe_match_max_cm").get<double>(), 0) << "onto the rig it was trained on, every node finds itself";
+  EXPECT_EQ(j.at("units"), "cm");
+  const auto rec = j.at("recomputed").get<std::vector<std::string>>();
+  EXPECT_NE(std::find(rec.begin(), rec.end(), "pe_rows"), rec.end());
+  EXPECT_NE(std::find(rec.begin(), rec.end(), "up_index"), rec.end());
+  const SrModel out = load_sr_model(path("t.fsm"));
+  EXPECT_EQ(out.rig_checksum, rig_checksum(fixtures::procedural_rig()));
+  for (size_t i = 0; i < src.tensors.size(); ++i) EXPECT_EQ(out.tensors[i].values, src.tensors[i].values) << i;
+
+  // A rig that is not there: an error naming it, and no output.
+  const auto bad = run("model transfer " + fixtures::shell_quote(shipped()) + " --rig " + q("none.rig") + " -o " +
+                       q("t2.fsm"));
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.err.find("none.rig"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(path("t2.fsm")));
 }
 
 TEST_F(ModelCli, BlendInterpolatesWeightsOfCompatibleModelsOnly) {

@@ -168,6 +168,17 @@ TEST_F(TrainTiny, InitFromStartsAtTheSourceModelAndTheRateAnneals) {
   EXPECT_EQ(load_sr_model(path("init.fsm")).training["options"].value("init_from", ""),
             fs::weakly_canonical(path("src.fsm")).string());
 
+  // A model carried over from another rig (`model transfer`) gives its nodes
+  // other encoding rows; fine-tuning from it keeps them.
+  SrModel moved = load_sr_model(path("src.fsm"));
+  moved.geometry.pe_rows.resize(size_t(moved.num_lr));
+  for (int i = 0; i < moved.num_lr; ++i) moved.geometry.pe_rows[size_t(i)] = moved.num_lr - 1 - i;
+  save_sr_model(path("moved.fsm"), moved);
+  TrainOptions mo = options("moved_ft.fsm", 1);
+  mo.init_from = path("moved.fsm");
+  train_model(fixtures::procedural_rig(), arch(), mo);
+  EXPECT_EQ(load_sr_model(path("moved_ft.fsm")).geometry.pe_rows, moved.geometry.pe_rows);
+
   // Cosine annealing: the recorded per-epoch rates run from --lr to --lr-final.
   TrainOptions a = options("anneal.fsm", 3);
   a.init_from = path("src.fsm");

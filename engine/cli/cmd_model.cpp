@@ -13,6 +13,7 @@
 #include "core/framed_file.h"
 #include "rig/rig_io.h"
 #include "runtime/fit_rest_correctives.h"
+#include "sr/model_transfer.h"
 #include "sr/sr_geometry_compare.h"
 #include "sr/sr_model.h"
 #include "sr/sr_model_blend.h"
@@ -129,6 +130,43 @@ void register_model(CLI::App& app) {
     } else {
       std::printf("%s: bound to %s (%s; rest poses within %.3g cm)\n", rb.out.c_str(), rb.rig.c_str(),
                   hex64(to).c_str(), d.max_position_cm);
+    }
+  });
+
+  struct TransferArgs {
+    std::string rig, in, out;
+    bool json = false;
+  };
+  static TransferArgs tr;
+  auto* t = model->add_subcommand(
+      "transfer",
+      "Write a copy for another rig (another face): graphs, neighbourhoods, upsampling inputs, embedding, rest poses, "
+      "coordinate frame and per-node positional encodings recomputed for it, the network's weights kept; near-rest "
+      "correctives dropped (fit them again on the new rig's data)");
+  t->add_option("model", tr.in, "Trained model file (.fsm, kind sr with coordinate-based upsampling)")->required();
+  t->add_option("--rig", tr.rig, "The rig to carry the model to (.rig)")->required();
+  t->add_option("-o,--out", tr.out, "Output model file")->required();
+  t->add_flag("--json", tr.json,
+              "Print a JSON summary: from_rig, to_rig, checksums, sizes, parameters_kept, recomputed, kept, "
+              "rest_correctives_dropped, pe_match_mean_cm, pe_match_max_cm");
+  add_action(t, [] {
+    const SrModel m = load_sr_model(tr.in);
+    const Rig rig = load_rig(tr.rig);
+    ModelTransferReport rep;
+    const SrModel out = transfer_sr_model(m, rig, rig_checksum(rig), &rep, tr.in + " to " + tr.rig);
+    save_sr_model(tr.out, out);  // written to a temporary name, then renamed
+    if (tr.json) {
+      auto s = model_summary(out, tr.out);
+      s.update(rep.to_json());
+      std::printf("%s\n", s.dump(2).c_str());
+    } else {
+      std::printf("%s: '%s' (%d LR nodes, %d HR vertices) carried to '%s' (%d, %d), %zu weights kept, lattices "
+                  "matched within %.3g cm on average%s\n",
+                  tr.out.c_str(), rep.from_rig.c_str(), rep.from_lr, rep.from_hr, rep.to_rig.c_str(), rep.to_lr,
+                  rep.to_hr, rep.parameters_kept, rep.pe_match_mean_cm,
+                  rep.correctives_dropped ? (", " + std::to_string(rep.correctives_dropped) +
+                                             " near-rest correctives dropped").c_str()
+                                          : "");
     }
   });
 

@@ -15,7 +15,7 @@ SrInferencePlan make_inference_plan(const SrModel& m) {
   p.N = m.num_lr;
   p.M = m.num_hr;
   p.K = a.upsample_k;
-  p.pe = positional_encoding(p.N, a.pe_dim);
+  p.pe = positional_encoding(p.N, a.pe_dim, m.geometry.pe_rows);
   const size_t MK = size_t(p.M) * size_t(p.K);
   std::vector<double> logits(MK);
   if (a.coordinate_upsampling) {

@@ -58,6 +58,13 @@ struct SrGeometry {
   // embedded skip connection.
   std::vector<int32_t> embed_nodes;   // M × 4 LR nodes
   std::vector<float> embed_weights;   // M × 4 barycentric weights
+
+  // The positional-encoding index of each LR node (§3.1 encodes the node
+  // index). Empty: the node's own index. A model carried over from another
+  // rig (`facesr model transfer`) sets it to the index of the old rig's
+  // corresponding node, so each region of the face keeps the encoding its
+  // weights were trained with.
+  std::vector<int32_t> pe_rows;  // N
 };
 
 // Fill-ins: the HR surface may have several connected components. Where a

@@ -20,7 +20,8 @@ struct SrGeometryDifference {
 
 // Compares the arrays `stored` holds (a model file may leave some out, a VAE
 // all neighbourhoods) with the same arrays of `current`; an array that
-// `stored` has and `current` lacks is a topology mismatch.
+// `stored` has and `current` lacks is a topology mismatch. pe_rows is not
+// compared: it is the model's choice of encoding, not a property of the rig.
 SrGeometryDifference compare_sr_geometry(const SrGeometry& stored, const SrGeometry& current);
 
 }  // namespace facesr

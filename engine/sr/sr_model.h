@@ -1,5 +1,5 @@
 #pragma once
-// A trained super-resolution model (".fsm" file, version 5): the
+// A trained super-resolution model (".fsm" file, version 6): the
 // architecture, the rig it belongs to (by checksum, so a model cannot be
 // paired with another rig), the rest-pose neighbourhoods it was trained with,
 // and every parameter tensor. Read by evaluation and by the runtime without
@@ -8,11 +8,11 @@
 //
 //   offset  size  field
 //   0       8     magic "FACESRSM"
-//   8       4     u32 format version (= 5; versions 4 and 2, still read,
-//                   have no residual smoothing, and 2 no near-rest
-//                   correctives; version 3 had them in another form and is
+//   8       4     u32 format version (= 6; versions 5, 4 and 2, still
+//                   read, have no pe_rows, 4 and 2 no residual smoothing,
+//                   and 2 no near-rest correctives; version 3 had them in another form and is
 //                   not read; version 1 had no surface embedding)
-//   12            string header: JSON {"format": "facesr-sr-model", "version": 5,
+//   12            string header: JSON {"format": "facesr-sr-model", "version": 6,
 //                   "units": "cm", "rig_name", "rig_checksum", "num_lr" (N),
 //                   "num_hr" (M), "architecture": {...}, "training": {...},
 //                   and "rest_correctives": {"shapes", "amplitudes" (a list
@@ -33,6 +33,9 @@
 //                   vector<i32> embed_nodes (M×4), vector<f32> embed_weights (M×4)
 //                               (the LR embedding of the surface; required with
 //                               architecture.embedded_skip)
+//                   vector<i32> pe_rows (N, or empty: each node's own index;
+//                               the positional-encoding index per LR node,
+//                               set by `facesr model transfer`)
 //                   (for kind "vae" the neighbourhood vectors are empty)
 //                 u64 tensor count T, then T tensors, each:
 //                   string name, vector<i64> shape, vector<f32> values

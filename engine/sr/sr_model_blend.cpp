@@ -23,6 +23,8 @@ SrModel blend_sr_models(const SrModel& a, const SrModel& b, double t, const std:
   require(d.max_position_cm == 0 && d.max_distance_cm == 0 && d.max_weight == 0,
           context + ": the models' rest-pose geometry differs (by up to " + std::to_string(d.max_position_cm) +
               " cm)");
+  require(a.geometry.pe_rows == b.geometry.pe_rows,
+          context + ": the models give their LR nodes different positional encodings (geometry.pe_rows)");
   // Correctives measure one network's residual; a blend is another network.
   require(a.rest_correctives.empty() && b.rest_correctives.empty(),
           context + ": a model has near-rest correctives; blend the models without them, then fit them again "

@@ -22,8 +22,9 @@ const char kMagic[8] = {'F', 'A', 'C', 'E', 'S', 'R', 'S', 'M'};
 // version 4 the near-rest correctives, version 5 the residual smoothing (a
 // header entry only: a version-4 reader would ignore it and give another
 // surface). Version 3 (one sample per shape, "rest_tangents"; one
-// development commit) is not read.
-constexpr uint32_t kVersion = 5;
+// development commit) is not read. Version 6 added geometry.pe_rows (a model
+// carried over to another rig, `facesr model transfer`).
+constexpr uint32_t kVersion = 6;
 
 template <class T>
 void check_size(const std::vector<T>& v, size_t n, const std::string& ctx, const char* what) {
@@ -105,6 +106,13 @@ void validate_sr_model(const SrModel& m, const std::string& ctx) {
     check_finite(g.up_dist, ctx, "geometry.up_dist");
     check_finite(g.euclid_dist, ctx, "geometry.euclid_dist");
     if (!g.up_is_euclid.empty()) check_size(g.up_is_euclid, M * K, ctx, "geometry.up_is_euclid");
+    if (!g.pe_rows.empty()) {
+      check_size(g.pe_rows, N, ctx, "geometry.pe_rows");
+      // Rows are node indices of the rig the weights were trained on; the bound only keeps sin/cos arguments sane.
+      check_indices(g.pe_rows, 0, 1 << 24, ctx, "geometry.pe_rows");
+    }
+  } else {
+    require(g.pe_rows.empty(), ctx + ": geometry.pe_rows applies to the super-resolution network only");
   }
   const auto expected = parameter_shapes(m.arch, m.num_lr, m.num_hr);
   require(m.tensors.size() == expected.size(), ctx + ": " + std::to_string(m.tensors.size()) +
@@ -152,6 +160,7 @@ void save_sr_model(const std::string& path, const SrModel& m) {
   w.put_vector(g.up_is_euclid);
   w.put_vector(g.embed_nodes);
   w.put_vector(g.embed_weights);
+  w.put_vector(g.pe_rows);
   w.put<uint64_t>(m.tensors.size());
   for (const SrTensor& t : m.tensors) {
     w.put_string(t.name);
@@ -179,9 +188,9 @@ SrModel load_sr_model(const std::string& path) {
           path + ": checksum mismatch: the file is corrupt or truncated");
   ByteReader r(bytes.data() + 8, bytes.size() - 16, path);
   const auto version = r.get<uint32_t>("format version");
-  require(version == 2 || version == 4 || version == kVersion,
+  require(version == 2 || version == 4 || version == 5 || version == kVersion,
           path + ": model format version " + std::to_string(version) +
-              " is not supported (this build reads versions 2, 4 and " + std::to_string(kVersion) +
+              " is not supported (this build reads versions 2, 4, 5 and " + std::to_string(kVersion) +
               "; remake a version-3 model with `facesr model correctives`)");
   json h;
   try {
@@ -219,6 +228,7 @@ SrModel load_sr_model(const std::string& path) {
   g.up_is_euclid = r.get_vector<uint8_t>("geometry.up_is_euclid");
   g.embed_nodes = r.get_vector<int32_t>("geometry.embed_nodes");
   g.embed_weights = r.get_vector<float>("geometry.embed_weights");
+  if (version >= 6) g.pe_rows = r.get_vector<int32_t>("geometry.pe_rows");
   const auto count = r.get<uint64_t>("tensor count");
   require(count <= 4096, at + "implausible tensor count " + std::to_string(count));
   for (uint64_t i = 0; i < count; ++i) {

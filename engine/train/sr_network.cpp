@@ -22,31 +22,12 @@ torch::Tensor float_tensor(const std::vector<float>& v, std::vector<int64_t> sha
 
 }  // namespace
 
-void set_coordinate_frame(SrArchitecture& arch, const SrGeometry& g) {
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  auto grow = [&](const std::vector<float>& p) {
-    for (size_t i = 0; i + 2 < p.size(); i += 3)
-      for (int c = 0; c < 3; ++c) {
-        lo[c] = std::min(lo[c], double(p[i + c]));
-        hi[c] = std::max(hi[c], double(p[i + c]));
-      }
-  };
-  grow(g.lr_rest);
-  grow(g.hr_rest);
-  double half = 0;
-  for (int c = 0; c < 3; ++c) {
-    arch.coord_center[c] = 0.5 * (lo[c] + hi[c]);
-    half = std::max(half, 0.5 * (hi[c] - lo[c]));
-  }
-  arch.coord_scale = half > 0 ? half : 1;
-}
-
 SrNetworkImpl::SrNetworkImpl(const SrArchitecture& arch, const SrGeometry& g)
     : arch_(arch), N_(g.num_lr), M_(g.num_hr), K_(arch.upsample_k) {
   require(arch.kind == "sr", "SrNetwork: architecture kind is '" + arch.kind + "', expected 'sr'");
   require(g.graph_k == arch.graph_k && g.upsample_k == arch.upsample_k,
           "SrNetwork: the geometry's k values differ from the architecture's");
-  pe_ = register_buffer("pe", float_tensor(positional_encoding(int(N_), arch.pe_dim), {N_, arch.pe_dim}));
+  pe_ = register_buffer("pe", float_tensor(positional_encoding(int(N_), arch.pe_dim, g.pe_rows), {N_, arch.pe_dim}));
   graph_ = long_tensor(g.lr_graph, {N_, arch.graph_k});
 
   if (arch.feature_encoding) {

@@ -7,6 +7,7 @@
 
 #include <torch/torch.h>
 
+#include "sr/coordinate_frame.h"
 #include "sr/sr_architecture.h"
 #include "sr/sr_geometry.h"
 #include "train/edge_conv.h"
@@ -54,7 +55,5 @@ class SrNetworkImpl : public torch::nn::Module {
 };
 TORCH_MODULE(SrNetwork);
 
-// Input/coordinate normalisation an SrArchitecture needs, from the rest poses.
-void set_coordinate_frame(SrArchitecture& arch, const SrGeometry& g);
 
 }  // namespace facesr

@@ -189,6 +189,8 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
   if (arch.kind == "sr") {
     model.geometry = build_sr_geometry(rig, {arch.graph_k, arch.upsample_k});
     require(model.geometry.num_lr == data.num_lr, "train: the rig's LR node count differs from the dataset's");
+    // A model carried over from another rig keeps the encoding each node was trained with.
+    if (!opt.init_from.empty()) model.geometry.pe_rows = init.geometry.pe_rows;
   } else {
     // The VAE needs only the rest poses; the neighbourhoods stay out of its file.
     SrGeometry& g = model.geometry;

@@ -22,7 +22,8 @@ struct TrainOptions {
   int batch_size = 6;          // the paper's
   double learning_rate = 1e-4;  // the paper's (Adam)
   double learning_rate_final = 0;  // > 0: cosine-anneal to this by the last epoch (train/lr_schedule.h)
-  // Start from this model file's weights (same rig and architecture; its
+  // Start from this model file's weights (same rig and architecture, e.g. one
+  // carried over by `facesr model transfer`, whose per-node encodings are kept; its
   // input/output scales are kept) instead of a random initialisation.
   std::string init_from;
   double alpha = 1e-3;          // face-normal loss weight (table 3)
