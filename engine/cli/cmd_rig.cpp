@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "rig/rig_build.h"
 #include "rig/rig_io.h"
+#include "rig/rig_preset.h"
 #include "rig/rig_preview.h"
 #include "rig/rig_summary.h"
 
@@ -21,18 +22,7 @@ struct BuildArgs {
   bool json = false;
 };
 
-void apply_preset(BuildArgs& a) {
-  if (a.preset == "default") return;
-  require(a.preset == "coarse", "unknown --preset '" + a.preset + "' (expected default or coarse)");
-  // Small rigs for unit tests and CI: a coarse procedural head, a coarse grid.
-  a.opt.procedural.grid_h = 0.25;
-  a.opt.procedural.edge = 0.8;
-  a.opt.flesh_grid_h = 0.3;
-  a.opt.bone_edge = 0.8;
-  a.opt.hr_max_volume = 0.15;
-  a.opt.lr_cell = 1.2;
-  a.opt.min_hr_over_lr = 0;
-}
+void apply_preset(BuildArgs& a) { apply_rig_preset(a.opt, a.preset); }
 
 void print_summary(const Rig& rig, bool json) {
   const auto s = rig_summary(rig);

@@ -50,6 +50,8 @@ void register_train(CLI::App& app) {
                 "in capped_left_out)");
   sub->add_option("--patience", a.o.patience, "Early stop after this many epochs without a better validation error");
   sub->add_option("--time-limit", a.o.time_limit_s, "Checkpoint, export and stop after this many seconds");
+  sub->add_option("--time-budget", a.o.time_budget_s,
+                  "Do not start an epoch that would take the epochs' total time, resumed runs included, past this many seconds");
   sub->add_flag("--restart", a.restart, "Ignore and remove an existing checkpoint instead of resuming");
   sub->add_option("--seed", a.o.seed, "Random seed (default 1)");
   sub->add_option("--device", a.device, "cpu | cuda | auto (default: CUDA when this LibTorch has it)");

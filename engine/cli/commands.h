@@ -19,6 +19,7 @@ void register_train(CLI::App& app);
 void register_eval(CLI::App& app);
 void register_play(CLI::App& app);
 void register_model(CLI::App& app);
+void register_character(CLI::App& app);
 // `bench runtime`, under the `bench` group that register_bench makes.
 void add_bench_runtime(CLI::App* bench);
 void add_action(CLI::App* sub, std::function<void()> action);

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   facesr::cli::register_eval(app);
   facesr::cli::register_play(app);
   facesr::cli::register_model(app);
+  facesr::cli::register_character(app);
   facesr::cli::register_devices(app);
   try {
     app.parse(argc, argv);

@@ -146,7 +146,8 @@ json evaluate_models(const Rig& rig, const ModelEvaluationOptions& opt, std::str
   require(!methods.empty(), "eval: no method to evaluate (give --model and/or --vae, or --methods embedded,...)");
 
   EvalOptions eo;
-  eo.spectral_options.k = opt.spectral_k;
+  eo.spectral = opt.spectral_k > 0;
+  if (eo.spectral) eo.spectral_options.k = opt.spectral_k;
   if (on_validation) eo.title = "Frame-wise surface reconstruction error on the validation frames";
   eo.csv_path = opt.out_dir + "/frame_errors.csv";
   eo.svg_path = opt.out_dir + "/frame_errors.svg";

@@ -27,7 +27,7 @@ struct ModelEvaluationOptions {
   std::string split = "test";
   int validation_every = 10;
   int pictures = 4;        // test frames pictured (evenly spaced)
-  int spectral_k = 100;
+  int spectral_k = 100;    // 0: no low/high band split (faster)
   // σ (cm) and μ for the baselines; <= 0: fitted on up to fit_frames training
   // frames over a grid scaled by the LR cell size.
   double rbf_sigma_cm = 0, rbf_regularization = -1, mls_sigma_cm = 0;

@@ -292,7 +292,19 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
   int epochs_run = 0, since_best = 0;
   int epoch = start_epoch;
   net.module().train();
+  bool budget_reached = false;
   for (; epoch < opt.epochs; ++epoch) {
+    if (opt.time_budget_s > 0 && !history.empty()) {
+      // Counts the epochs of earlier (killed or stopped) runs too, from the checkpoint's history.
+      double spent = 0;
+      int timed = 0;
+      for (const auto& h : history)
+        if (h.contains("seconds")) spent += h["seconds"].get<double>(), ++timed;
+      if (timed > 0 && spent + spent / timed > opt.time_budget_s) {
+        sum.hit_time_limit = budget_reached = true;
+        break;
+      }
+    }
     const auto t0 = std::chrono::steady_clock::now();
     // Per-epoch seeds: a resumed run shuffles and samples as an unbroken one would.
     torch::manual_seed(opt.seed * 1000003ull + uint64_t(epoch));
@@ -335,7 +347,8 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
       }
     }
     const double train_loss = loss_sum / batches, train_l1 = l1_sum / batches;
-    json rec = {{"epoch", epoch + 1}, {"loss", train_loss}, {"l1_cm", train_l1}, {"beta", beta}, {"lr", lr_now}};
+    json rec = {{"epoch", epoch + 1}, {"loss", train_loss}, {"l1_cm", train_l1}, {"beta", beta}, {"lr", lr_now},
+                {"seconds", seconds_since(t0)}};
     bool improved = false;
     if (data.validation.size() > 0) {
       const double v = mean_error_cm(net, data.validation, dev, opt.batch_size);
@@ -377,7 +390,8 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
     if (opt.progress)
       std::fprintf(stderr, "[train %s] stopped after epoch %d of %d (%s)\n", arch.kind.c_str(), epoch, opt.epochs,
                    sum.stopped_early ? "early stop: no better validation error"
-                                     : "time limit; the same command resumes from the checkpoint");
+                   : budget_reached ? "time budget reached (epochs of every run counted)"
+                       : "time limit; the same command resumes from the checkpoint");
   } else {
     progress.finish();
   }

@@ -37,6 +37,10 @@ struct TrainOptions {
   bool keep_capped = false;     // train on HR frames that stopped above the Newton tolerance too
   int patience = 0;             // > 0: stop after this many epochs without a better validation error
   double time_limit_s = 0;      // > 0: checkpoint and stop after this much wall time (resume later)
+  // > 0: do not start an epoch that would take the epochs' total wall time,
+  // earlier runs of a resumed training included, past this (the mean epoch
+  // so far is the estimate). Not part of the checkpoint's settings.
+  double time_budget_s = 0;
   // Continue from a matching checkpoint (same data and settings; --epochs may
   // be raised to extend a run, and β's ramp then spans the new total).
   bool resume = true;
