@@ -134,7 +134,7 @@ void register_model(CLI::App& app) {
   });
 
   struct TransferArgs {
-    std::string rig, in, out;
+    std::string rig, in, out, encoding = "nearest";
     bool json = false;
   };
   static TransferArgs tr;
@@ -146,6 +146,10 @@ void register_model(CLI::App& app) {
   t->add_option("model", tr.in, "Trained model file (.fsm, kind sr with coordinate-based upsampling)")->required();
   t->add_option("--rig", tr.rig, "The rig to carry the model to (.rig)")->required();
   t->add_option("-o,--out", tr.out, "Output model file")->required();
+  t->add_option("--node-encoding", tr.encoding,
+                "nearest (default): each new LR node takes the positional encoding of the old node nearest to it; "
+                "index: its own index, as a model trained on the new rig would (an ablation)")
+      ->check(CLI::IsMember({"nearest", "index"}));
   t->add_flag("--json", tr.json,
               "Print a JSON summary: from_rig, to_rig, checksums, sizes, parameters_kept, recomputed, kept, "
               "rest_correctives_dropped, pe_match_mean_cm, pe_match_max_cm");
@@ -153,11 +157,14 @@ void register_model(CLI::App& app) {
     const SrModel m = load_sr_model(tr.in);
     const Rig rig = load_rig(tr.rig);
     ModelTransferReport rep;
-    const SrModel out = transfer_sr_model(m, rig, rig_checksum(rig), &rep, tr.in + " to " + tr.rig);
+    SrModel out = transfer_sr_model(m, rig, rig_checksum(rig), &rep, tr.in + " to " + tr.rig);
+    if (tr.encoding == "index") out.geometry.pe_rows.clear();
+    out.training["transferred"].back()["node_encoding"] = tr.encoding;
     save_sr_model(tr.out, out);  // written to a temporary name, then renamed
     if (tr.json) {
       auto s = model_summary(out, tr.out);
       s.update(rep.to_json());
+      s["node_encoding"] = tr.encoding;
       std::printf("%s\n", s.dump(2).c_str());
     } else {
       std::printf("%s: '%s' (%d LR nodes, %d HR vertices) carried to '%s' (%d, %d), %zu weights kept, lattices "
