@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The main job: install dependencies, build, build the face rigs, simulate a
 # performance on the LR lattice (OpenCL) and render a few frames of it, then
-# make a small paired LR/HR dataset and picture its embedded-vs-HR error, and
-# end with the real-time demo: a performance played through the runtime (LR
+# make a small paired LR/HR dataset and picture its embedded-vs-HR error, run
+# the head-to-model pipeline on a tiny budget, and end with the real-time demo: a performance played through the runtime (LR
 # simulation + OpenCL super-resolution) with the shipped models, written as
 # glTF, with the frame rate printed.
 set -euo pipefail
@@ -30,6 +30,10 @@ if [[ -f "$ICT_DIR/generic_neutral_mesh.obj" ]]; then
 else
   echo "demo: ICT FaceKit data not found at $ICT_DIR; skipping the ICT rig" >&2
 fi
+# Your own character: the whole pipeline (rig, data, training, post-fit,
+# evaluation, package) on the coarse procedural head with a minutes-long
+# budget; a real head takes hours (README, "Your own character").
+$F character build --source procedural --preset coarse -o out/procedural_character --budget 3m --max-frames 20 --json
 # Real-time demo. The rig build is deterministic (on any x86-64 CPU), so the shipped models
 # (scripts/make-procedural-model.sh, docs/network.md) fit the rigs built here;
 # a model made for another rig is refused by its checksum.
