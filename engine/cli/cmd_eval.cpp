@@ -13,7 +13,7 @@ namespace facesr::cli {
 
 void register_eval(CLI::App& app) {
   struct Args {
-    std::string rig, methods = "ours,embedded,rbf,mls,vae", markdown, tag;
+    std::string rig, methods = "ours,embedded,blendshape,rbf,mls,vae", markdown, tag;
     ModelEvaluationOptions o;
     bool json = false, quiet = false;
   };
@@ -28,7 +28,7 @@ void register_eval(CLI::App& app) {
                   "With --split validation: the n that training used (default 10, train's default)");
   sub->add_option("--model", a.o.model_path, "Trained network (.fsm from `facesr train`)");
   sub->add_option("--vae", a.o.vae_path, "Trained β-VAE (.fsm from `facesr train --kind vae`)");
-  sub->add_option("--methods", a.methods, "Comma-separated methods (default ours,embedded,rbf,mls,vae)");
+  sub->add_option("--methods", a.methods, "Comma-separated methods (default ours,embedded,blendshape,rbf,mls,vae; blendshape: the linear blendshape surface at each frame's weights)");
   sub->add_option("--out,-o", a.o.out_dir, "Output folder: frame_errors.csv/.svg, pictures/, report.json")->required();
   sub->add_option("--pictures", a.o.pictures, "Test frames pictured as error heat maps (default 4)");
   sub->add_option("--spectral-k", a.o.spectral_k, "Eigenvectors in the low band (default 100)");

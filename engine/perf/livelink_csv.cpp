@@ -13,18 +13,13 @@
 
 #include "core/error.h"
 #include "core/number_text.h"
+#include "perf/perf_limits.h"
 
 namespace facesr {
 namespace {
 
-constexpr double kMaxFps = 1000;
-constexpr double kMaxFrames = 3e6;  // as for keyframe JSON: catches a broken timecode, not a real take
+using namespace perf_limits;
 constexpr size_t kRunsListed = 6;   // a warning names this many runs of lines, then counts the rest
-
-std::string lower(std::string s) {
-  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 std::string trim(const std::string& s) {
   size_t a = 0, b = s.size();

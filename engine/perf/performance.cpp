@@ -12,25 +12,19 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/number_text.h"
+#include "perf/perf_limits.h"
 
 namespace facesr {
 namespace {
 
 constexpr const char* kFormat = "facesr-performance";
 constexpr int kVersion = 1;
-constexpr double kMaxFps = 1000;
-// A day at 30 fps; far beyond any real take, small enough to catch a typo in a time.
-constexpr double kMaxFrames = 3e6;
+using namespace perf_limits;
 // Bounds on an explicit jaw transform: beyond any real jaw (about 30-35
 // degrees of opening, a few mm of protrusion), so they only catch radians
 // passed as degrees or millimetres as centimetres.
 constexpr double kMaxJawDeg = 60;
 constexpr double kMaxJawCm = 5;
-
-std::string lower(std::string s) {
-  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 // As the messages have always named values: "NaN", 6 digits.
 std::string control_text(double v) { return std::isnan(v) ? "NaN" : number_text(v, 6); }

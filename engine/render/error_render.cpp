@@ -9,16 +9,13 @@
 #include "core/error.h"
 #include "render/heat_legend.h"
 #include "render/mesh_raster.h"
+#include "render/panel_style.h"
 #include "render/sequence_render.h"
 
 namespace facesr {
 namespace {
 
-constexpr int kMaxSide = 16384;  // pixels, as for sequence pictures
-constexpr int kMaxPanels = 1024;
-const Rgb kBackground{120, 120, 120};
-const Rgb kInk{20, 20, 24};
-const Rgb kGridLine{90, 90, 90};
+using namespace panel_style;
 
 long first_non_finite(const std::vector<float>& v) {
   for (size_t i = 0; i < v.size(); ++i)

@@ -10,16 +10,13 @@
 #include "core/progress.h"
 #include "render/heat_legend.h"
 #include "render/mesh_raster.h"
+#include "render/panel_style.h"
 #include "rig/rig_preview.h"
 
 namespace facesr {
 namespace {
 
-constexpr int kMaxSide = 16384;  // pixels: keeps a mistyped frame list from allocating gigabytes
-constexpr int kMaxPanels = 1024;
-const Rgb kBackground{120, 120, 120};
-const Rgb kInk{20, 20, 24};
-const Rgb kGridLine{90, 90, 90};
+using namespace panel_style;
 
 std::string format(const char* fmt, double v) {
   char buf[64];

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "baselines/blendshape.h"
 #include "baselines/fit_sigma.h"
 #include "baselines/mls.h"
 #include "baselines/rbf.h"
@@ -48,8 +49,8 @@ std::vector<int64_t> fit_subset(int64_t F, int count) {
 
 json evaluate_models(const Rig& rig, const ModelEvaluationOptions& opt, std::string* markdown) {
   for (const auto& m : opt.methods)
-    require(m == "ours" || m == "embedded" || m == "rbf" || m == "mls" || m == "vae",
-            "eval: unknown method '" + m + "' (expected ours, embedded, rbf, mls, vae)");
+    require(m == "ours" || m == "embedded" || m == "blendshape" || m == "rbf" || m == "mls" || m == "vae",
+            "eval: unknown method '" + m + "' (expected ours, embedded, blendshape, rbf, mls, vae)");
   require(!opt.out_dir.empty(), "eval: no output folder");
   const uint64_t checksum = rig_checksum(rig);
   // Only the RBF and MLS baselines fit their widths on training frames.
@@ -98,6 +99,14 @@ json evaluate_models(const Rig& rig, const ModelEvaluationOptions& opt, std::str
 
   if (ours) timed("ours", [&] { return frames_of(TorchPredictor(*ours).predict(evaluated.lr)); });
   if (wanted(opt, "embedded")) methods.push_back({"embedded", frames_of(evaluated.embedded)});
+  if (wanted(opt, "blendshape")) {
+    timed("blendshape", [&] {
+      const BlendshapeBaseline b(rig, data.weight_names);
+      std::vector<std::vector<float>> out(evaluated.weights.size(), std::vector<float>(size_t(3 * data.num_hr)));
+      for (size_t f = 0; f < out.size(); ++f) b.apply(evaluated.weights[f], out[f].data());
+      return out;
+    });
+  }
 
   if (wanted(opt, "rbf") || wanted(opt, "mls")) {
     // The baselines use the network's own neighbourhoods when it has them.

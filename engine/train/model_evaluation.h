@@ -18,7 +18,9 @@ struct ModelEvaluationOptions {
   std::string dataset_dir;
   std::string model_path;  // "ours" (optional if not among the methods)
   std::string vae_path;    // "vae" (optional)
-  std::vector<std::string> methods{"ours", "embedded", "rbf", "mls", "vae"};  // those available are run
+  // Those available are run. "blendshape": the linear blendshape surface at
+  // each frame's ARKit weights (baselines/blendshape.h).
+  std::vector<std::string> methods{"ours", "embedded", "blendshape", "rbf", "mls", "vae"};
   std::string out_dir;     // CSV, SVG, pictures, report.json
   // "test": the manifest's test split. "validation": every
   // validation_every-th frame of the training split, the frames `facesr

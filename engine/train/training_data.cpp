@@ -18,6 +18,7 @@ struct Builder {
     emb.insert(emb.end(), f.embedded_disp.begin(), f.embedded_disp.end());
     set.sequence.push_back(seq);
     set.frame.push_back(index);
+    set.weights.push_back(f.weights);
   }
   FrameSet finish(int64_t N, int64_t M) {
     const int64_t F = int64_t(set.frame.size());
@@ -62,6 +63,7 @@ DatasetSplit load_dataset_split(const std::string& dir, uint64_t rig_checksum, i
   out.num_lr = m.num_lr_nodes;
   out.num_hr = m.num_surface;
   out.capped_left_out = capped;
+  out.weight_names = m.weight_names;
   if (!train.set.frame.empty()) out.train = train.finish(m.num_lr_nodes, m.num_surface);
   if (!val.set.frame.empty()) out.validation = val.finish(m.num_lr_nodes, m.num_surface);
   if (!test.set.frame.empty()) out.test = test.finish(m.num_lr_nodes, m.num_surface);

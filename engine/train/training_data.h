@@ -15,12 +15,14 @@ struct FrameSet {
   torch::Tensor embedded;  // F × M × 3 LR-embedded surface displacements, cm
   std::vector<std::string> sequence;  // per frame
   std::vector<int> frame;             // per frame, index in its sequence
+  std::vector<std::vector<float>> weights;  // per frame, its ARKit weights (the dataset's weight_names order)
   int64_t size() const { return lr.defined() ? lr.size(0) : 0; }
 };
 
 struct DatasetSplit {
   FrameSet train, validation, test;
   int num_lr = 0, num_hr = 0;
+  std::vector<std::string> weight_names;  // the manifest's blendshape order of FrameSet::weights
   // Train-split frames left out because their HR solve stopped above the
   // dataset's Newton tolerance (manifest extra "hr_newton_tol", 1e-3 when
   // absent): capped or diverged references would teach the network a wrong
