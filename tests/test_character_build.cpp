@@ -128,5 +128,26 @@ TEST_F(CharacterCli, AKilledRunResumesToACompletePackage) {
   EXPECT_HAS(other.err, "other settings");
 }
 
+TEST_F(CharacterCli, InitFromAModelOfAnotherRigTransfersItAndRecordsItsZeroShotError) {
+  // The shipped coarse model, relabelled as belonging to another rig: the
+  // pipeline must carry it over (model transfer) before fine-tuning.
+  SrModel other = load_sr_model(std::string(FACESR_TEST_SOURCE_DIR) + "/samples/assets/procedural_coarse.fsm");
+  other.rig_name = "elsewhere";
+  other.rig_checksum ^= 0x5a5a5a5a5a5a5a5aull;
+  save_sr_model(path("other.fsm"), other);
+  const auto r = run("character build --source procedural --preset coarse -o " + q("t") + " --init-from " +
+                     q("other.fsm") + " --budget 6s --max-frames 3 --validation-every 3 --max-epochs 1 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto s = nlohmann::json::parse(r.out);
+  const auto& a = s["stages"]["train_a"];
+  ASSERT_TRUE(a.contains("transfer")) << a.dump();
+  EXPECT_EQ(a["transfer"]["from_rig"], "elsewhere");
+  EXPECT_EQ(a["transfer"]["pe_match_max_cm"].get<double>(), 0) << "same geometry: every node finds itself";
+  ASSERT_TRUE(s.contains("zero_shot"));
+  EXPECT_GT(s["zero_shot"]["test_cm"].get<double>(), 0);
+  EXPECT_TRUE(s.contains("blendshape_mean_cm"));
+  EXPECT_EQ(load_sr_model(path("t/model.fsm")).rig_checksum, rig_checksum(load_rig(path("t/rig.rig"))));
+}
+
 }  // namespace
 }  // namespace facesr

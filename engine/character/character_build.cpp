@@ -56,7 +56,7 @@ json settings_json(const CharacterOptions& o) {
           {"max_epochs", o.max_epochs},
           {"validation_every", o.validation_every},
           {"seed", o.seed},
-          {"architecture", architecture_to_json(character_architecture())}};
+          {"architecture", o.init_from.empty() ? architecture_to_json(character_architecture()) : json("init_from")}};
 }
 
 class Manifest {
@@ -255,7 +255,8 @@ json build_character(const CharacterOptions& opt) {
   }
 
   // train_a
-  SrArchitecture arch = character_architecture();
+  // A model carried over keeps its own layer sizes; from scratch, the character architecture.
+  SrArchitecture arch = init ? init->arch : character_architecture();
   TrainOptions topt;
   topt.dataset_dir = data;
   topt.validation_every = opt.validation_every;
