@@ -143,6 +143,7 @@ json evaluate_file(const Rig& rig, const std::string& dataset, const std::string
   e.out_dir = out_dir;
   e.pictures = split == "test" ? 4 : 0;
   e.spectral_k = split == "test" ? 100 : 0;
+  e.penetration = split == "test";
   e.progress = progress;
   return evaluate_models(rig, e);
 }

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 
 #include "baselines/blendshape.h"
 #include "baselines/fit_sigma.h"
@@ -13,6 +14,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "eval/evaluate.h"
+#include "eval/lip_penetration.h"
 #include "rig/rig_io.h"
 #include "sr/sr_model.h"
 #include "train/torch_predictor.h"
@@ -43,6 +45,50 @@ std::vector<int64_t> fit_subset(int64_t F, int count) {
   const int64_t n = std::min<int64_t>(F, std::max(1, count));
   for (int64_t i = 0; i < n; ++i) idx.push_back(i * F / n);
   return idx;
+}
+
+// Per method (and the HR reference, "hr"): the deepest lip–lip and lip–teeth
+// penetration over the frames, the mean of the per-frame deepest, and the
+// frames above 0.05 cm (cm).
+json penetration_report(const Rig& rig, const std::vector<EvalFrame>& frames, const std::vector<EvalMethod>& methods,
+                        const std::vector<std::array<float, 12>>& jaw, std::string* markdown) {
+  LipPenetrationSetup setup;
+  try {
+    setup = lip_penetration_setup(rig);
+  } catch (const Error& e) {
+    return {{"skipped", std::string("the rig's lips could not be found: ") + e.what()}};
+  }
+  json out = {{"units", "cm"}, {"threshold_cm", 0.05}, {"upper_lip_vertices", setup.upper.size()},
+              {"lower_lip_vertices", setup.lower.size()}};
+  std::string md = "\n| surface | lip–lip max (cm) | lip–lip mean (cm) | frames > 0.05 cm | lip–teeth max (cm) | "
+                   "lip–teeth mean (cm) | frames > 0.05 cm |\n|---|---|---|---|---|---|---|\n";
+  auto measure = [&](const std::string& name, const std::function<const std::vector<float>&(size_t)>& disp) {
+    double lmax = 0, lsum = 0, tmax = 0, tsum = 0;
+    int lover = 0, tover = 0;
+    Points X = rig.surface;
+    for (size_t f = 0; f < frames.size(); ++f) {
+      const std::vector<float>& d = disp(f);
+      for (long v = 0; v < X.rows(); ++v)
+        for (int c = 0; c < 3; ++c) X(v, c) = rig.surface(v, c) + double(d[size_t(3 * v + c)]);
+      const LipPenetration p = lip_penetration(setup, X, jaw[f]);
+      lmax = std::max(lmax, p.lip_cm), lsum += p.lip_cm, lover += p.lip_cm > 0.05;
+      tmax = std::max(tmax, p.teeth_cm), tsum += p.teeth_cm, tover += p.teeth_cm > 0.05;
+    }
+    const double n = std::max<size_t>(1, frames.size());
+    out[name] = {{"lip_max_cm", lmax}, {"lip_mean_cm", lsum / n}, {"lip_frames_over", lover},
+                 {"teeth_max_cm", tmax}, {"teeth_mean_cm", tsum / n}, {"teeth_frames_over", tover}};
+    char row[256];
+    std::snprintf(row, sizeof row, "| %s | %.3f | %.4f | %d | %.3f | %.4f | %d |\n", name.c_str(), lmax, lsum / n, lover,
+                  tmax, tsum / n, tover);
+    md += row;
+  };
+  measure("hr", [&](size_t f) -> const std::vector<float>& { return frames[f].reference_disp; });
+  for (const auto& m : methods)
+    measure(m.name, [&](size_t f) -> const std::vector<float>& { return m.predicted_disp[f]; });
+  if (markdown)
+    *markdown = md + "\nLip contact on each surface (eval/lip_penetration.h): deepest lip vertex behind the other "
+                     "lip and inside a tooth, vertices already in contact at rest not counted.\n";
+  return out;
 }
 
 }  // namespace
@@ -164,6 +210,8 @@ json evaluate_models(const Rig& rig, const ModelEvaluationOptions& opt, std::str
   for (int i = 0; i < opt.pictures && T > 0; ++i) eo.picture_frames.push_back(int((2 * i + 1) * T / (2 * opt.pictures)));
   const EvalReport report = evaluate(rig, frames, methods, eo);
   json j = report.to_json();
+  std::string penetration_md;
+  if (opt.penetration) j["penetration"] = penetration_report(rig, frames, methods, evaluated.jaw, &penetration_md);
   j["baselines"] = baselines;
   j["timing"] = timing;
   j["dataset"] = opt.dataset_dir;
@@ -174,7 +222,7 @@ json evaluate_models(const Rig& rig, const ModelEvaluationOptions& opt, std::str
                           {"train_time_s", ours->training.value("train_time_s", 0.0)}};
   const std::string text = j.dump(2) + "\n";
   write_file_atomically(opt.out_dir + "/report.json", [&](std::ostream& o) { o << text; });
-  if (markdown) *markdown = report.to_markdown();
+  if (markdown) *markdown = report.to_markdown() + penetration_md;
   return j;
 }
 

@@ -29,6 +29,9 @@ struct ModelEvaluationOptions {
   std::string split = "test";
   int validation_every = 10;
   int pictures = 4;        // test frames pictured (evenly spaced)
+  // Lip contact on every method's surface and on the HR reference
+  // (eval/lip_penetration.h): report.json "penetration".
+  bool penetration = true;
   int spectral_k = 100;    // 0: no low/high band split (faster)
   // σ (cm) and μ for the baselines; <= 0: fitted on up to fit_frames training
   // frames over a grid scaled by the LR cell size.

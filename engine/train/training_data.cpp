@@ -19,6 +19,7 @@ struct Builder {
     set.sequence.push_back(seq);
     set.frame.push_back(index);
     set.weights.push_back(f.weights);
+    set.jaw.push_back(f.jaw);
   }
   FrameSet finish(int64_t N, int64_t M) {
     const int64_t F = int64_t(set.frame.size());

@@ -2,6 +2,7 @@
 // Paired frames of a dataset (engine/dataset) as tensors for training and
 // evaluation: the manifest's train split minus a held-out validation subset,
 // and its test split.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@ struct FrameSet {
   std::vector<std::string> sequence;  // per frame
   std::vector<int> frame;             // per frame, index in its sequence
   std::vector<std::vector<float>> weights;  // per frame, its ARKit weights (the dataset's weight_names order)
+  std::vector<std::array<float, 12>> jaw;   // per frame, the jaw's R (row-major) and t (cm)
   int64_t size() const { return lr.defined() ? lr.size(0) : 0; }
 };
 
