@@ -8,11 +8,12 @@
 //
 //   offset  size  field
 //   0       8     magic "FACESRSM"
-//   8       4     u32 format version (= 6; versions 5, 4 and 2, still
-//                   read, have no pe_rows, 4 and 2 no residual smoothing,
-//                   and 2 no near-rest correctives; version 3 had them in another form and is
-//                   not read; version 1 had no surface embedding)
-//   12            string header: JSON {"format": "facesr-sr-model", "version": 6,
+//   8       4     u32 format version: 6 with pe_rows, else 5. Versions 4
+//                   and 2 are still read: 4 and 2 have no residual
+//                   smoothing, 2 no near-rest correctives. Version 3 had
+//                   them in another form and is not read; version 1 had
+//                   no surface embedding.
+//   12            string header: JSON {"format": "facesr-sr-model", "version": 5 or 6,
 //                   "units": "cm", "rig_name", "rig_checksum", "num_lr" (N),
 //                   "num_hr" (M), "architecture": {...}, "training": {...},
 //                   and "rest_correctives": {"shapes", "amplitudes" (a list
@@ -33,9 +34,9 @@
 //                   vector<i32> embed_nodes (M×4), vector<f32> embed_weights (M×4)
 //                               (the LR embedding of the surface; required with
 //                               architecture.embedded_skip)
-//                   vector<i32> pe_rows (N, or empty: each node's own index;
-//                               the positional-encoding index per LR node,
-//                               set by `facesr model transfer`)
+//                   vector<i32> pe_rows (version 6 only: N, the
+//                               positional-encoding index per LR node, set
+//                               by `facesr model transfer`)
 //                   (for kind "vae" the neighbourhood vectors are empty)
 //                 u64 tensor count T, then T tensors, each:
 //                   string name, vector<i64> shape, vector<f32> values

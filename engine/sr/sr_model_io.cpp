@@ -23,8 +23,11 @@ const char kMagic[8] = {'F', 'A', 'C', 'E', 'S', 'R', 'S', 'M'};
 // header entry only: a version-4 reader would ignore it and give another
 // surface). Version 3 (one sample per shape, "rest_tangents"; one
 // development commit) is not read. Version 6 added geometry.pe_rows (a model
-// carried over to another rig, `facesr model transfer`).
+// carried over to another rig, `facesr model transfer`). A model without
+// pe_rows is still written as version 5, byte for byte as before.
 constexpr uint32_t kVersion = 6;
+
+uint32_t version_of(const SrModel& m) { return m.geometry.pe_rows.empty() ? 5 : kVersion; }
 
 template <class T>
 void check_size(const std::vector<T>& v, size_t n, const std::string& ctx, const char* what) {
@@ -44,7 +47,7 @@ void check_indices(const std::vector<int32_t>& v, int lo, int hi, const std::str
 }
 
 json header_json(const SrModel& m) {
-  return {{"format", "facesr-sr-model"}, {"version", kVersion},       {"units", "cm"},
+  return {{"format", "facesr-sr-model"}, {"version", version_of(m)},       {"units", "cm"},
           {"rig_name", m.rig_name},      {"rig_checksum", m.rig_checksum}, {"num_lr", m.num_lr},
           {"num_hr", m.num_hr},          {"architecture", architecture_to_json(m.arch)}, {"training", m.training}};
 }
@@ -144,7 +147,7 @@ void save_sr_model(const std::string& path, const SrModel& m) {
   validate_sr_model(m, path);
   ByteWriter w;
   for (char c : kMagic) w.put(c);
-  w.put(kVersion);
+  w.put(version_of(m));
   w.put_string(header_with_correctives(m).dump());
   const SrGeometry& g = m.geometry;
   w.put_vector(g.lr_rest);
@@ -160,7 +163,7 @@ void save_sr_model(const std::string& path, const SrModel& m) {
   w.put_vector(g.up_is_euclid);
   w.put_vector(g.embed_nodes);
   w.put_vector(g.embed_weights);
-  w.put_vector(g.pe_rows);
+  if (version_of(m) >= 6) w.put_vector(g.pe_rows);
   w.put<uint64_t>(m.tensors.size());
   for (const SrTensor& t : m.tensors) {
     w.put_string(t.name);
