@@ -6,11 +6,11 @@
 # preset), then the HR reference with contacts on a subset. Writes the
 # tables into BENCHMARKS.md. Resumable: rigs and per-rig results are kept
 # under out/robustness and not made again; rerun the same command.
-#   bash scripts/robustness.sh [HEADS=20] [MAX_FRAMES_PER_TAKE=600] [HR_HEADS=2]
+#   bash scripts/robustness.sh [HEADS=20] [MAX_FRAMES_PER_TAKE=0 (whole takes)] [HR_HEADS=2]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 HEADS=${1:-20}
-MAX_FRAMES=${2:-600}
+MAX_FRAMES=${2:-0}
 HR_HEADS=${3:-2}
 SHARED=${FACESR_SHARED_DIR:-../shared}
 ICT=${FACESR_ICT_DIR:-$SHARED/data/ict-facekit}
