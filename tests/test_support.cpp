@@ -6,19 +6,14 @@
 #include <filesystem>
 
 #include "rig/rig_io.h"
+#include "rig/rig_preset.h"
 
 namespace facesr::fixtures {
 
 RigBuildOptions coarse_rig_options() {
   RigBuildOptions o;
   o.source = "procedural";
-  o.procedural.grid_h = 0.25;
-  o.procedural.edge = 0.8;
-  o.flesh_grid_h = 0.3;
-  o.bone_edge = 0.8;
-  o.hr_max_volume = 0.15;
-  o.lr_cell = 1.2;
-  o.min_hr_over_lr = 0;
+  apply_rig_preset(o, "coarse");  // the CLI's --preset coarse: the tests' rig is the one `rig build` makes
   o.verbose = false;
   return o;
 }
