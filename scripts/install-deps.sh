@@ -18,8 +18,9 @@ PACKAGES=(
   libtorch-dev libopenblas0-openmp
   # I/O and CLI
   nlohmann-json3-dev libcli11-dev libstb-dev
-  # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev
+  # tests and benchmarks; clang with its sanitizer runtimes (libFuzzer) for
+  # scripts/fuzz.sh
+  libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev
   # bindings: C# via mono, Rust via cargo (offline, no crates)
   mono-mcs mono-runtime cargo
 )

@@ -56,22 +56,24 @@ Sequence read_sequence(const std::string& path) {
   seq.surface.resize(F * ns);
   const uint8_t* p = bytes.data() + r.position();
   for (uint64_t f = 0; f < F; ++f, p += per_frame) {
-    const std::string where = path + ": frame " + std::to_string(f) + ": ";
+    // The message is built only on failure: for frame 0 it would read
+    // time[-1] (found by fuzzing), and for every good frame it cost a string.
+    auto where = [&] { return path + ": frame " + std::to_string(f) + ": "; };
     double t;
     std::memcpy(&t, p, sizeof t);
-    require(std::isfinite(t), where + "time is not finite");
-    require(f == 0 || t > seq.time[f - 1], where + "time " + std::to_string(t) +
-                                               " s is not after the previous frame's " +
-                                               std::to_string(seq.time[f - 1]) + " s");
+    if (!std::isfinite(t)) throw Error(where() + "time is not finite");
+    if (f > 0 && !(t > seq.time[f - 1]))
+      throw Error(where() + "time " + std::to_string(t) + " s is not after the previous frame's " +
+                  std::to_string(seq.time[f - 1]) + " s");
     seq.time[f] = t;
     float* nodes = seq.nodes.data() + f * nn;
     float* surface = seq.surface.data() + f * ns;
     if (nn) std::memcpy(nodes, p + sizeof t, nn * sizeof(float));
     if (ns) std::memcpy(surface, p + sizeof t + nn * sizeof(float), ns * sizeof(float));
     if (const long i = fsq::first_non_finite(nodes, nn); i >= 0)
-      throw Error(where + "node " + std::to_string(i / 3) + " has a non-finite coordinate");
+      throw Error(where() + "node " + std::to_string(i / 3) + " has a non-finite coordinate");
     if (const long i = fsq::first_non_finite(surface, ns); i >= 0)
-      throw Error(where + "surface vertex " + std::to_string(i / 3) + " has a non-finite coordinate");
+      throw Error(where() + "surface vertex " + std::to_string(i / 3) + " has a non-finite coordinate");
   }
   return seq;
 }

@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# The test suite under sanitizers, each in its own build folder:
+#   asan   AddressSanitizer + LeakSanitizer + UBSan (every test but those
+#          listed in tests/sanitize/asan-skip.txt, with the reason there)
+#   tsan   ThreadSanitizer on the tests that share the C ABI across threads
+#          (multi-context and asynchronous stepping)
+#
+#   bash scripts/sanitize.sh [asan|tsan|all] [--abi-only] [--json]
+#
+# --abi-only runs only the C ABI tests (what CI runs). Findings fail the run:
+# UBSan does not recover, ASan/LSan/TSan exit non-zero. Suppressions for
+# libraries we do not build (PoCL, LLVM inside it, the OpenMP runtime) are in
+# tests/sanitize/*.supp, each with the reason; none covers facesr code.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+
+which=all abi_only=0 json=0
+for a in "$@"; do
+  case "$a" in
+    asan|tsan|all) which=$a ;;
+    --abi-only) abi_only=1 ;;
+    --json) json=1 ;;
+    *) echo "sanitize.sh: unknown argument '$a' (expected asan|tsan|all, --abi-only, --json)" >&2; exit 2 ;;
+  esac
+done
+
+bash scripts/install-deps.sh
+jobs=$(nproc)
+supp=$root/tests/sanitize
+
+configure() {  # folder, sanitizer flags
+  local dir=$1 flags=$2
+  # -O1: a sanitized -O3 build of the engine takes twice as long to compile
+  # and finds nothing more. NDEBUG as in Release, so the tests see the code
+  # that ships. The bindings are left out: mono and cargo load the library
+  # into processes that are not sanitized (listed in asan-skip.txt).
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Sanitize \
+    -DCMAKE_C_FLAGS_SANITIZE="-O1 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1 -DNDEBUG" \
+    -DCMAKE_C_FLAGS="$flags" -DCMAKE_CXX_FLAGS="$flags" \
+    -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags" \
+    -DFACESR_BINDINGS=OFF >/dev/null
+}
+
+results=()
+run_asan() {
+  local dir=build-asan
+  configure $dir "-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
+  echo "sanitize: building $dir" >&2
+  cmake --build $dir -j"$jobs"
+  local skip filter
+  skip=$(grep -v '^#' "$supp/asan-skip.txt" | awk 'NF {print $1}' | paste -sd'|')
+  if [[ $abi_only == 1 ]]; then filter=(-R '^(Capi|capi)'); else filter=(); fi
+  local t0=$SECONDS rc=0
+  (cd $dir && \
+    ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:detect_odr_violation=0:strict_string_checks=1" \
+    LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0" \
+    UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$supp/ubsan.supp" \
+    OMP_NUM_THREADS=2 \
+    ctest --output-on-failure -j"$jobs" "${filter[@]}" -E "${skip:-^$}") || rc=$?
+  results+=("\"asan\": {\"rc\": $rc, \"seconds\": $((SECONDS - t0))}")
+  return $rc
+}
+
+run_tsan() {
+  local dir=build-tsan
+  configure $dir "-fsanitize=thread -fno-omit-frame-pointer"
+  echo "sanitize: building $dir (the threaded C ABI tests)" >&2
+  cmake --build $dir -j"$jobs" --target facesr facesr_tests facesr_capi_threads_test
+  local t0=$SECONDS rc=0
+  # The threaded ABI tests only: the rest of the suite is single-threaded
+  # apart from OpenMP loops, and libgomp is not instrumented (every OpenMP
+  # barrier would be reported). One OpenMP thread keeps the reports to
+  # facesr's own threads. The fixture (rig and model made by the CLI) is made
+  # with reports off: it is offline code, not what the ABI promises.
+  (cd $dir && \
+    TSAN_OPTIONS="report_bugs=0" OMP_NUM_THREADS=1 ctest -R '^capi_test_data$' --output-on-failure && \
+    TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$supp/tsan.supp" OMP_NUM_THREADS=1 \
+    ctest --output-on-failure -R '^(capi_threads|Capi\.TwoContextsOnTwoThreads.*|Capi\..*Async.*|CapiBasics\.ErrorMessageIsPerThread.*)$' -FA '.*') || rc=$?
+  results+=("\"tsan\": {\"rc\": $rc, \"seconds\": $((SECONDS - t0))}")
+  return $rc
+}
+
+status=0
+if [[ $which == asan || $which == all ]]; then run_asan || status=1; fi
+if [[ $which == tsan || $which == all ]]; then run_tsan || status=1; fi
+if [[ $json == 1 ]]; then
+  (IFS=,; echo "{\"ok\": $([[ $status == 0 ]] && echo true || echo false), ${results[*]}}")
+fi
+exit $status
