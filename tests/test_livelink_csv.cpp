@@ -578,3 +578,22 @@ TEST_F(LiveLinkCsv, RealTakesFromSharedData) {
   EXPECT_HAS(error_of([&] { load_livelink_csv(s88, arkit_names_of(s88), strict()); }),
              s88 + ": line 384: has 2 fields, the header has 63");
 }
+
+// Found by fuzzing: one wrong digit in a timecode's hours made four rows span
+// ten hours, and the reader interpolated 1.1 million frames. The length is
+// bounded (perf_limits.h: two hours at 30 fps), so such a take is refused at
+// once, naming the span.
+TEST_F(LiveLinkCsv, ATimecodeTypoThatSpansHoursIsRefused) {
+  const std::string path = write("typo.csv",
+                                 "Timecode,JawOpen\n"
+                                 "09:35:05:27.466,0.1\n"
+                                 "19:35:05:29.466,0.2\n");
+  for (const auto& o : {LiveLinkOptions(), strict()}) {
+    const std::string msg = error_of([&] { load_livelink_csv(path, kIct, o); });
+    EXPECT_HAS(msg, "typo.csv: the take spans 36000");
+    EXPECT_HAS(msg, "216000 frames");
+  }
+  // Just under two hours still loads.
+  const std::string ok = write("long.csv", "Timecode,JawOpen\n0,0.1\n7199,0.2\n");
+  EXPECT_EQ(load_livelink_csv(ok, kIct).frames(), 7199 * 30 + 1);
+}

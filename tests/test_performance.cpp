@@ -186,6 +186,10 @@ TEST_F(PerformanceFiles, KeyframeTimeErrors) {
   }
   msg = file_error(doc(30, {k(0), k(1e9)}));
   EXPECT_HAS(msg, "frames at 30 fps");
+  // The bound is two hours at 30 fps (perf_limits.h): a 60-byte file must not
+  // make the reader allocate gigabytes.
+  msg = file_error(doc(30, {k(0), k(7300)}));
+  EXPECT_HAS(msg, "more than 216000 frames at 30 fps");
 }
 
 TEST_F(PerformanceFiles, WeightErrors) {
