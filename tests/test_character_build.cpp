@@ -91,11 +91,12 @@ TEST_F(CharacterCli, AKilledRunResumesToACompletePackage) {
   const std::string args = "character build --source procedural --preset coarse -o " + q("c") +
                            " --budget 8s --max-frames 3 --validation-every 3 --max-epochs 2 --json";
   // Killed (SIGKILL: no chance to clean up) part-way through.
-  const std::string killed = "timeout -s KILL 25 " + fixtures::shell_quote(FACESR_CLI) + " " + args + " >" +
+  const int kill_after_s = 25 * fixtures::time_scale();
+  const std::string killed = "timeout -s KILL " + std::to_string(kill_after_s) + " " + fixtures::shell_quote(FACESR_CLI) + " " + args + " >" +
                              q("killed.out") + " 2>" + q("killed.err");
   const int status = std::system(killed.c_str());
   (void)status;  // killed or, on a fast machine, finished: both must resume
-  ASSERT_TRUE(fs::exists(path("c/character.json"))) << "the run should have finished a stage within 25 s";
+  ASSERT_TRUE(fs::exists(path("c/character.json"))) << "the run should have finished a stage within " << kill_after_s << " s";
   const auto before = nlohmann::json::parse(fixtures::read_text(path("c/character.json")));
   ASSERT_TRUE(before["stages"].contains("rig"));
   const auto rig_time = fs::last_write_time(path("c/rig.rig"));

@@ -36,6 +36,12 @@ double face_size(const Rig& r) {
   return (r.surface.colwise().maxCoeff() - r.surface.colwise().minCoeff()).norm();
 }
 
+int time_scale() {
+  const char* env = std::getenv("FACESR_TEST_TIME_SCALE");
+  const int s = env ? std::atoi(env) : 1;
+  return s >= 1 ? s : 1;
+}
+
 std::string ict_dir() {
   const char* env = std::getenv("FACESR_ICT_DIR");
   return env ? env : FACESR_TEST_ICT_DIR;

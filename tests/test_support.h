@@ -17,6 +17,10 @@ RigBuildOptions coarse_rig_options();
 const Rig& procedural_rig();  // coarse preset; built once per build of the test binary (shared_cache_dir), loaded on first use
 double face_size(const Rig& r);
 std::string ict_dir();  // $FACESR_ICT_DIR or ../shared/data/ict-facekit
+// How much slower than a Release build this test binary runs
+// ($FACESR_TEST_TIME_SCALE, default 1; scripts/sanitize.sh sets 4): tests
+// that wait for a process to reach a point scale their waits by it.
+int time_scale();
 bool have_ict();
 
 // A folder made once per build of the test binary and shared by all its

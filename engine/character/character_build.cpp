@@ -66,7 +66,7 @@ class Manifest {
       std::ifstream in(path_);
       try {
         j_ = json::parse(in);
-      } catch (const json::parse_error& e) {
+      } catch (const json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
         throw Error(path_ + ": not valid JSON (" + e.what() + "); remove it or pass --restart");
       }
       require(j_.value("format", "") == "facesr-character", path_ + ": not a character build manifest");

@@ -130,7 +130,7 @@ DatasetManifest load_manifest(const std::string& path) {
   json j;
   try {
     j = json::parse(ss.str());
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
     throw Error(path + ": not valid JSON (" + e.what() + ")");
   }
   return manifest_from_json(j, path);

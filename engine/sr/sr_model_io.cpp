@@ -198,7 +198,7 @@ SrModel load_sr_model(const std::string& path) {
   json h;
   try {
     h = json::parse(r.get_string("header"));
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number like 1e999 (found by fuzzing)
     throw Error(path + ": the header is not valid JSON (" + e.what() + ")");
   }
   using namespace json_fields;

@@ -250,7 +250,7 @@ TrainSummary train_model(const Rig& rig, const SrArchitecture& arch_in, const Tr
     json st;
     try {
       st = json::parse(in);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
       throw Error(ck.state() + ": not valid JSON (" + e.what() + "); remove the folder or pass --restart");
     }
     require(st.value("config", json()) == fingerprint,
