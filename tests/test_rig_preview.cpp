@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "rig/rig_preview.h"
+#include "render/rig_preview.h"
 
 #define STB_IMAGE_STATIC
 #define STB_IMAGE_IMPLEMENTATION

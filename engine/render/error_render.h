@@ -2,7 +2,7 @@
 #include <string>
 #include <vector>
 
-#include "rig/preview_raster.h"
+#include "render/preview_raster.h"
 #include "rig/rig.h"
 
 // Pictures of where a face surface is wrong: each panel is a front view of

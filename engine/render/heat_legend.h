@@ -1,7 +1,7 @@
 #pragma once
 #include <string>
 
-#include "rig/preview_raster.h"
+#include "render/preview_raster.h"
 
 // Text drawn over rendered panels, shared by the sequence and error pictures
 // so that their labels and heat legends look the same.

@@ -2,7 +2,7 @@
 #include <vector>
 
 #include "core/types.h"
-#include "rig/preview_raster.h"
+#include "render/preview_raster.h"
 
 // Software rasterizer for looking at simulated faces: z-buffered,
 // Lambert-shaded triangles under an orthographic front view.

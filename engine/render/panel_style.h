@@ -1,8 +1,8 @@
 #pragma once
-#include "rig/preview_raster.h"
+#include "render/preview_raster.h"
 
-// Limits and colours shared by the multi-panel pictures (sequence frames,
-// error heat maps), so that both look alike.
+// Limits and colours shared by the pictures (sequence frames, error heat
+// maps, the rig preview), so that they look alike.
 namespace facesr::panel_style {
 
 constexpr int kMaxSide = 16384;  // pixels: keeps a mistyped frame list from allocating gigabytes

@@ -11,7 +11,7 @@
 #include "render/heat_legend.h"
 #include "render/mesh_raster.h"
 #include "render/panel_style.h"
-#include "rig/rig_preview.h"
+#include "render/rig_preview.h"
 
 namespace facesr {
 namespace {

@@ -3,7 +3,7 @@
 #include <vector>
 
 #include "perf/sequence_io.h"
-#include "rig/preview_raster.h"
+#include "render/preview_raster.h"
 #include "rig/rig.h"
 
 namespace facesr {

@@ -1,4 +1,4 @@
-#include "cli/arg_lists.h"
+#include "arg_lists.h"
 
 #include <cmath>
 #include <cstdlib>

@@ -8,11 +8,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/commands.h"
+#include "commands.h"
 #include "core/error.h"
 #include "core/framed_file.h"
 #include "rig/rig_io.h"
-#include "runtime/fit_rest_correctives.h"
+#include "postfit/fit_rest_correctives.h"
 #include "sr/model_transfer.h"
 #include "sr/sr_geometry_compare.h"
 #include "sr/sr_model.h"

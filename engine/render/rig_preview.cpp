@@ -1,4 +1,4 @@
-#include "rig/rig_preview.h"
+#include "render/rig_preview.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -15,6 +15,7 @@
 #include "mesh/surface_query.h"
 #include "mesh/tet_locator.h"
 #include "mesh/tri_mesh.h"
+#include "render/panel_style.h"
 
 namespace facesr {
 namespace {
@@ -22,8 +23,8 @@ namespace {
 constexpr double kSideAngleDeg = 60;
 constexpr double kMinMuscleFraction = 0.25;
 constexpr double kLightAmbient = 0.2;
-const Rgb kBackground{120, 120, 120};
-const Rgb kInk{20, 20, 24};
+using panel_style::kBackground;
+using panel_style::kInk;
 const Rgb kLatticeColour{20, 40, 150};
 
 // Strips a side suffix so that mirror pairs map to one key; side is 0 for

@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "bench/bench_report.h"
-#include "cli/arg_lists.h"
-#include "cli/commands.h"
+#include "arg_lists.h"
+#include "commands.h"
 #include "core/error.h"
 #include "dataset/dataset_manifest.h"
 #include "dataset/generate.h"

@@ -1,4 +1,4 @@
-#include "rig/preview_raster.h"
+#include "render/preview_raster.h"
 
 #include <array>
 #include <cctype>

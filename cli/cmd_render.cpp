@@ -4,7 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "cli/commands.h"
+#include "commands.h"
 #include "core/error.h"
 #include "dataset/dataset_io.h"
 #include "dataset/dataset_metrics.h"

@@ -1,4 +1,4 @@
-#include "runtime/fit_rest_correctives.h"
+#include "postfit/fit_rest_correctives.h"
 
 #include <algorithm>
 #include <cmath>

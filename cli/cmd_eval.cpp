@@ -3,8 +3,8 @@
 #include <cstdio>
 
 #include "bench/bench_report.h"
-#include "cli/arg_lists.h"
-#include "cli/commands.h"
+#include "arg_lists.h"
+#include "commands.h"
 #include "core/error.h"
 #include "rig/rig_io.h"
 #include "train/model_evaluation.h"

@@ -5,7 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "cli/commands.h"
+#include "commands.h"
 #include "core/error.h"
 
 int main(int argc, char** argv) {

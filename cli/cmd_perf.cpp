@@ -2,7 +2,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "cli/commands.h"
+#include "commands.h"
 #include "core/error.h"
 #include "perf/livelink_csv.h"
 #include "perf/performance.h"

@@ -8,7 +8,7 @@
 
 #include "bench/bench_report.h"
 #include "bench/runtime_bench.h"
-#include "cli/commands.h"
+#include "commands.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "collide/mouth_collider.h"

@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/arg_lists.h"
-#include "cli/commands.h"
+#include "arg_lists.h"
+#include "commands.h"
 #include "core/error.h"
 #include "rig/identity_head.h"
 

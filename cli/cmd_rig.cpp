@@ -3,12 +3,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/commands.h"
+#include "commands.h"
 #include "core/error.h"
 #include "rig/rig_build.h"
 #include "rig/rig_io.h"
 #include "rig/rig_preset.h"
-#include "rig/rig_preview.h"
+#include "render/rig_preview.h"
 #include "rig/rig_summary.h"
 
 namespace facesr::cli {

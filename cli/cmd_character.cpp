@@ -6,7 +6,7 @@
 
 #include "character/character_build.h"
 #include "character/character_recipe.h"
-#include "cli/commands.h"
+#include "commands.h"
 
 namespace facesr::cli {
 

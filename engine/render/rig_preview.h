@@ -2,7 +2,7 @@
 #include <string>
 #include <vector>
 
-#include "rig/preview_raster.h"
+#include "render/preview_raster.h"
 #include "rig/rig.h"
 
 namespace facesr {
