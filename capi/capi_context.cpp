@@ -65,7 +65,7 @@ facesr_status create(const facesr_rig* rig, const facesr_model* model, const fac
     auto c = std::make_unique<facesr_context>();
     c->loaded = rig->loaded;
     c->model = model->model;
-    c->runtime = std::make_unique<RuntimeContext>(l.rig, model->model, opt);
+    c->runtime = std::make_unique<RuntimeContext>(model->compiled->get(rig->loaded, model->model), opt);
     *out = c.release();
     return kOk;
   });

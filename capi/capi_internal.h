@@ -7,15 +7,18 @@
 #include <cstring>
 #include <exception>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <string>
 #include <type_traits>
 #include <unordered_map>
+#include <vector>
 
 #include "core/error.h"
 #include "facesr.h"
 #include "rig/rig.h"
 #include "runtime/runtime_context.h"
+#include "runtime/runtime_model.h"
 #include "sr/sr_model.h"
 
 namespace facesr::capi {
@@ -28,6 +31,24 @@ struct LoadedRig {
   std::unordered_map<std::string, int32_t> index;  // blendshape name -> rig order
 };
 
+// A model handle's compiled runtime models, one per rig it is used with: the
+// first context on a rig and model compiles it, later ones share it. Held
+// weakly, so it lives as long as some context uses it and a rig freed by
+// the caller is not kept alive by the model.
+class CompiledModels {
+ public:
+  std::shared_ptr<const RuntimeModel> get(const std::shared_ptr<const LoadedRig>& rig,
+                                          const std::shared_ptr<const SrModel>& model);
+
+ private:
+  struct Entry {
+    std::weak_ptr<const LoadedRig> rig;
+    std::weak_ptr<const RuntimeModel> compiled;
+  };
+  std::mutex mu_;
+  std::vector<Entry> entries_;
+};
+
 }  // namespace facesr::capi
 
 struct facesr_rig {
@@ -37,6 +58,9 @@ struct facesr_rig {
 struct facesr_model {
   std::shared_ptr<const facesr::SrModel> model;
   int64_t num_parameters = 0;
+  // Contexts on a const model handle share what they compile: the cache is
+  // behind a pointer, and locked.
+  std::unique_ptr<facesr::capi::CompiledModels> compiled = std::make_unique<facesr::capi::CompiledModels>();
 };
 
 struct facesr_context {

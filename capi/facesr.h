@@ -173,7 +173,10 @@ FACESR_API facesr_context_def facesr_default_context_def(void);
 
 /* Creates a context for one face. The model must have been trained on this
    rig (else FACESR_ERROR_MISMATCH). def may be NULL for defaults. The rig and
-   the model must outlive the context. */
+   the model must outlive the context. What depends only on the rig and the
+   model is built by the first context on them and shared, read-only, by
+   every later one while any of them lives, so later contexts are cheaper;
+   contexts may be created on several threads at once. */
 FACESR_API facesr_status facesr_context_create(const facesr_rig* rig, const facesr_model* model,
                                                const facesr_context_def* def, facesr_context** out_context);
 /* Destroys a context (waiting for its pending asynchronous frames). NULL is ignored. */

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_report.h"
+#include "bench/context_bench.h"
 #include "bench/runtime_bench.h"
 #include "commands.h"
 #include "core/error.h"
@@ -246,6 +247,49 @@ void add_bench_runtime(CLI::App* bench) {
       std::printf("%s\n", r.dump(2).c_str());
     else
       std::printf("%s", runtime_bench_markdown(r).c_str());
+  });
+}
+
+void add_bench_contexts(CLI::App* bench) {
+  struct Args {
+    RuntimeArgs rt;
+    std::string markdown;
+    int contexts = 4, frames = 30;
+    bool json = false, quiet = false;
+  };
+  static Args a;
+  auto* sub = bench->add_subcommand("contexts", "Several characters on one rig and model: the cost of the first "
+                                                "context against later ones (which share the compiled model), and "
+                                                "of stepping them all each frame");
+  a.rt.add(sub);
+  sub->add_option("--contexts", a.contexts, "Characters, a context each (default 4)");
+  sub->add_option("--frames", a.frames, "Timed frames (default 30)");
+  sub->add_option("--markdown", a.markdown, "Write the results into this Markdown file (e.g. BENCHMARKS.md)");
+  sub->add_flag("--json", a.json,
+                "Print JSON: first_context_ms, later_context_ms, later_over_first_time, later_over_first_memory, "
+                "all_step_ms, sequential_step_ms");
+  sub->add_flag("--quiet,-q", a.quiet, "No progress output");
+  add_action(sub, [] {
+    auto rig = std::make_shared<const Rig>(load_rig(a.rt.rig));
+    auto model = std::make_shared<const SrModel>(load_sr_model(a.rt.model));
+    const Performance perf = a.rt.load(*rig);
+    std::vector<std::vector<float>> w;
+    for (int f = 0; f < perf.frames(); ++f) w.emplace_back(perf.frame(f), perf.frame(f) + perf.names.size());
+    ContextBenchOptions o;
+    o.contexts = a.contexts;
+    o.frames = a.frames;
+    o.runtime = a.rt.options();
+    o.progress = !a.quiet;
+    nlohmann::json r = bench_contexts(rig, model, w, o);
+    r["rig"] = rig->name;
+    if (!a.markdown.empty())
+      update_markdown_section(a.markdown, "bench-contexts-" + rig->name + "-" + machine_slug(), context_bench_markdown(r));
+    if (a.json)
+      std::printf("%s\n", r.dump(2).c_str());
+    else
+      std::printf("%s", context_bench_markdown(r).c_str());
+    if (r["diverged_frames"].get<int>() > 0)
+      throw Error(std::to_string(r["diverged_frames"].get<int>()) + " frames diverged (see diverged_frames)");
   });
 }
 

@@ -358,6 +358,7 @@ void register_bench(CLI::App& app) {
   auto* bench = app.add_subcommand("bench", "Benchmarks (results can be written into BENCHMARKS.md)");
   bench->require_subcommand(1);
   add_bench_runtime(bench);
+  add_bench_contexts(bench);
   {
     struct RArgs {
       std::vector<std::string> rigs, takes;

@@ -22,6 +22,7 @@ void register_model(CLI::App& app);
 void register_character(CLI::App& app);
 // `bench runtime`, under the `bench` group that register_bench makes.
 void add_bench_runtime(CLI::App* bench);
+void add_bench_contexts(CLI::App* bench);
 void add_action(CLI::App* sub, std::function<void()> action);
 void run_selected(CLI::App& app);
 

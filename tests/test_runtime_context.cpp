@@ -9,6 +9,8 @@
 #include "rig/rig_io.h"
 #include "compute/cl_device.h"
 #include "runtime/runtime_context.h"
+#include "runtime/runtime_model.h"
+#include "runtime/sr_inference.h"
 #include "sr_fixtures.h"
 #include "test_support.h"
 
@@ -136,6 +138,40 @@ TEST_F(RuntimeFixture, TwoContextsSharingARigAndModelAgree) {
     const double len = std::sqrt(n[v] * n[v] + n[v + 1] * n[v + 1] + n[v + 2] * n[v + 2]);
     if (len > 0) EXPECT_NEAR(len, 1, 1e-5);
   }
+}
+
+TEST_F(RuntimeFixture, ContextsOnOneCompiledModelShareItAndMatchOnesThatCompiledTheirOwn) {
+  const std::shared_ptr<const RuntimeModel> compiled = compile_runtime_model(rig_, model_);
+  RuntimeContext a(compiled), b(compiled), own(rig_, model_);
+  EXPECT_EQ(a.compiled(), compiled);
+  EXPECT_EQ(b.compiled(), compiled);
+  EXPECT_NE(own.compiled(), compiled);
+  EXPECT_EQ(compiled.use_count(), 3);  // this test's and the two contexts'
+  for (const auto& f : weights(3)) {
+    for (RuntimeContext* c : {&a, &b, &own}) {
+      c->set_weights(f);
+      c->step();
+    }
+    EXPECT_EQ(a.result().positions, own.result().positions);
+    EXPECT_EQ(b.result().positions, own.result().positions);
+    EXPECT_EQ(a.result().embedded, own.result().embedded);
+  }
+  // The plan and the LR model are the shared ones, not copies.
+  EXPECT_EQ(compiled->plan->M, model_->num_hr);
+  EXPECT_EQ(compiled->hr_rest.size(), size_t(3 * rig_->num_surface_vertices()));
+}
+
+TEST_F(RuntimeFixture, CompilingAModelWithAnotherRigIsAnError) {
+  auto other = std::make_shared<Rig>(*rig_);
+  other->surface(0, 0) += 0.5;  // same sizes, another rig
+  EXPECT_NE(fixtures::error_of([&] { compile_runtime_model(other, model_); }).find("rig"), std::string::npos);
+  EXPECT_NE(fixtures::error_of([&] { compile_runtime_model(nullptr, model_); }).find("a rig and a model"),
+            std::string::npos);
+  // A plan made for another model is refused by both inferences.
+  auto plan = std::make_shared<SrInferencePlan>(make_inference_plan(*model_));
+  plan->M += 1;
+  EXPECT_NE(fixtures::error_of([&] { make_cpu_inference(model_, plan); }).find("another model"), std::string::npos);
+  EXPECT_NE(fixtures::error_of([&] { make_cl_inference(model_, {}, plan); }).find("another model"), std::string::npos);
 }
 
 TEST_F(RuntimeFixture, CpuAndOpenClInferenceAgree) {

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "bench/bench_report.h"
+#include "bench/bench_stats.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "runtime/sr_inference.h"
@@ -17,12 +18,8 @@ using nlohmann::json;
 
 namespace {
 
-double mean(const std::vector<double>& v) { return v.empty() ? 0 : std::accumulate(v.begin(), v.end(), 0.0) / v.size(); }
-double p95(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, size_t(0.95 * double(v.size())))];
-}
+using bench_stats::mean;
+using bench_stats::p95;
 
 }  // namespace
 

@@ -54,10 +54,12 @@ struct Block {  // one EdgeConv submodule
 
 class ClInference final : public SrInference {
  public:
-  ClInference(std::shared_ptr<const SrModel> m, const ClInferenceOptions& opt)
+  ClInference(std::shared_ptr<const SrModel> m, const ClInferenceOptions& opt, SharedInferencePlan shared)
       : m_(std::move(m)), opt_(opt), ctx_(opt.device) {
     const SrArchitecture& a = m_->arch;
-    const SrInferencePlan plan = make_inference_plan(*m_);
+    if (!shared) shared = std::make_shared<const SrInferencePlan>(make_inference_plan(*m_));
+    const SrInferencePlan& plan = *shared;
+    require(plan.N == m_->num_lr && plan.M == m_->num_hr, "OpenCL inference: the inference plan is another model's");
     N_ = uint32_t(plan.N);
     M_ = uint32_t(plan.M);
     K_ = uint32_t(plan.K);
@@ -414,9 +416,10 @@ class ClInference final : public SrInference {
 
 }  // namespace
 
-std::unique_ptr<SrInference> make_cl_inference(std::shared_ptr<const SrModel> model, const ClInferenceOptions& opt) {
+std::unique_ptr<SrInference> make_cl_inference(std::shared_ptr<const SrModel> model, const ClInferenceOptions& opt,
+                                               SharedInferencePlan plan) {
   require(model != nullptr, "inference: no model");
-  std::unique_ptr<SrInference> net = std::make_unique<ClInference>(model, opt);
+  std::unique_ptr<SrInference> net = std::make_unique<ClInference>(model, opt, std::move(plan));
   return add_rest_correctives(smooth_residual(subtract_rest_output(std::move(net), *model), *model), *model);
 }
 

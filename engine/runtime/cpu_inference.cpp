@@ -50,7 +50,11 @@ std::vector<int32_t> feature_knn(const RowMat& h, int k) {
 
 class CpuInference final : public SrInference {
  public:
-  explicit CpuInference(std::shared_ptr<const SrModel> m) : m_(std::move(m)), plan_(make_inference_plan(*m_)) {}
+  CpuInference(std::shared_ptr<const SrModel> m, SharedInferencePlan plan)
+      : m_(std::move(m)), plan_p_(plan ? std::move(plan) : std::make_shared<const SrInferencePlan>(make_inference_plan(*m_))),
+        plan_(*plan_p_) {
+    require(plan_.N == m_->num_lr && plan_.M == m_->num_hr, "inference: the inference plan is another model's");
+  }
 
   std::string device() const override { return "cpu-reference (Eigen, float)"; }
 
@@ -128,14 +132,15 @@ class CpuInference final : public SrInference {
 
  private:
   std::shared_ptr<const SrModel> m_;
-  SrInferencePlan plan_;
+  SharedInferencePlan plan_p_;
+  const SrInferencePlan& plan_;
 };
 
 }  // namespace
 
-std::unique_ptr<SrInference> make_cpu_inference(std::shared_ptr<const SrModel> model) {
+std::unique_ptr<SrInference> make_cpu_inference(std::shared_ptr<const SrModel> model, SharedInferencePlan plan) {
   require(model != nullptr, "inference: no model");
-  std::unique_ptr<SrInference> net = std::make_unique<CpuInference>(model);
+  std::unique_ptr<SrInference> net = std::make_unique<CpuInference>(model, std::move(plan));
   return add_rest_correctives(smooth_residual(subtract_rest_output(std::move(net), *model), *model), *model);
 }
 

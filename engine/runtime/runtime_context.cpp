@@ -14,7 +14,6 @@
 #include "core/number_text.h"
 #include "core/progress.h"
 #include "mesh/tri_mesh.h"
-#include "rig/rig_io.h"
 #include "runtime/sr_inference.h"
 #include "sim/cl_simulator.h"
 
@@ -56,9 +55,8 @@ struct Job {
 }  // namespace
 
 struct RuntimeContext::Impl {
-  std::shared_ptr<const Rig> rig;
-  std::shared_ptr<const SrModel> model;
-  SimModel lr_model;
+  std::shared_ptr<const RuntimeModel> compiled;
+  std::shared_ptr<const Rig> rig;  // compiled's, for brevity
   std::unique_ptr<Simulator> sim;
   std::unique_ptr<SrInference> sr;
   Controls controls;
@@ -67,7 +65,6 @@ struct RuntimeContext::Impl {
   int next_id = 1;
   int64_t next_frame = 0;
   FrameResult result;
-  std::vector<float> hr_rest;
 
   // Pipeline: the simulation thread takes jobs from sim_queue and hands them
   // to the inference thread through sr_queue; wait() takes finished jobs from
@@ -91,11 +88,12 @@ struct RuntimeContext::Impl {
     std::vector<double> x, s;
     sim->nodes(x);
     sim->surface(s);
-    const std::vector<double>& rest = lr_model.rest;
+    const std::vector<double>& rest = compiled->lr_model.rest;
     j.lr_disp.resize(x.size());
     for (size_t i = 0; i < x.size(); ++i) j.lr_disp[i] = float(x[i] - rest[i]);
     j.result.embedded.resize(s.size());
-    for (size_t i = 0; i < s.size(); ++i) j.result.embedded[i] = hr_rest[i] + float(s[i] - lr_model.surf_rest[i]);
+    const std::vector<double>& surf_rest = compiled->lr_model.surf_rest;
+    for (size_t i = 0; i < s.size(); ++i) j.result.embedded[i] = compiled->hr_rest[i] + float(s[i] - surf_rest[i]);
     for (double v : j.lr_disp) require(std::isfinite(v), "simulation: frame " + std::to_string(j.frame) + " is not finite");
     j.result.frame = j.frame;
     j.result.newton_iterations = st.newton_iters;
@@ -110,9 +108,9 @@ struct RuntimeContext::Impl {
   void super_resolve(Job& j) {
     const auto t0 = Clock::now();
     std::vector<float>& p = j.result.positions;
-    p.resize(hr_rest.size());
+    p.resize(compiled->hr_rest.size());
     sr->infer(j.lr_disp.data(), p.data());
-    for (size_t i = 0; i < p.size(); ++i) p[i] += hr_rest[i];
+    for (size_t i = 0; i < p.size(); ++i) p[i] += compiled->hr_rest[i];
     normals(p, j.result.normals);
     j.result.inference_ms = 1e3 * seconds_since(t0);
     j.result.total_ms = 1e3 * seconds_since(j.submitted);
@@ -127,9 +125,9 @@ struct RuntimeContext::Impl {
 
   void rest_result() {
     result = FrameResult{};
-    result.positions = hr_rest;
-    result.embedded = hr_rest;
-    normals(hr_rest, result.normals);
+    result.positions = compiled->hr_rest;
+    result.embedded = compiled->hr_rest;
+    normals(compiled->hr_rest, result.normals);
   }
 
   void worker(bool is_sim) {
@@ -191,31 +189,29 @@ struct RuntimeContext::Impl {
 
 RuntimeContext::RuntimeContext(std::shared_ptr<const Rig> rig, std::shared_ptr<const SrModel> model,
                                const RuntimeOptions& opt)
+    : RuntimeContext(compile_runtime_model(std::move(rig), std::move(model)), opt) {}
+
+RuntimeContext::RuntimeContext(std::shared_ptr<const RuntimeModel> compiled, const RuntimeOptions& opt)
     : impl_(std::make_unique<Impl>()) {
-  require(rig && model, "runtime: a rig and a model are needed");
-  require(model->arch.kind == "sr", "runtime: the model is a '" + model->arch.kind + "' model, not the network");
-  require_model_matches_rig(*model, rig_checksum(*rig), int(rig->lr.mesh.X.rows()), rig->num_surface_vertices(),
-                            "the model", "rig '" + rig->name + "'");
+  require(compiled != nullptr, "runtime: no compiled runtime model");
   Impl& m = *impl_;
-  m.rig = std::move(rig);
-  m.model = std::move(model);
-  m.lr_model = make_sim_model(*m.rig, Resolution::Low);
+  m.compiled = std::move(compiled);
+  m.rig = m.compiled->rig;
   ClSimulatorOptions cl;
   cl.device = opt.device;
   cl.single_precision = opt.lr_single_precision;
   const bool split = opt.split_device && !opt.cpu_inference;
   if (split) cl.device.parts = 2, cl.device.part = 0;
-  m.sim = make_cl_simulator(m.lr_model, opt.solver, cl);
+  m.sim = make_cl_simulator(m.compiled->lr_model, opt.solver, cl);
   if (opt.cpu_inference) {
-    m.sr = make_cpu_inference(m.model);
+    m.sr = make_cpu_inference(m.compiled->model, m.compiled->plan);
   } else {
     ClInferenceOptions io;
     io.device = opt.device;
     if (split) io.device.parts = 2, io.device.part = 1;
-    m.sr = make_cl_inference(m.model, io);
+    m.sr = make_cl_inference(m.compiled->model, io, m.compiled->plan);
   }
   m.controls.weights.assign(size_t(m.rig->num_blendshapes()), 0.0f);
-  m.hr_rest.assign(m.rig->surface.data(), m.rig->surface.data() + m.rig->surface.size());
   m.rest_result();
 }
 
@@ -225,6 +221,7 @@ RuntimeContext::~RuntimeContext() {
 }
 
 const Rig& RuntimeContext::rig() const { return *impl_->rig; }
+const std::shared_ptr<const RuntimeModel>& RuntimeContext::compiled() const { return impl_->compiled; }
 int RuntimeContext::num_weights() const { return impl_->rig->num_blendshapes(); }
 int RuntimeContext::num_vertices() const { return impl_->rig->num_surface_vertices(); }
 std::string RuntimeContext::device() const { return impl_->sim->device() + " + " + impl_->sr->device(); }
@@ -346,7 +343,7 @@ void RuntimeContext::step_async() {
   Impl& m = *impl_;
   auto j = std::make_shared<Job>();
   j->controls = m.frame_controls();
-  validate_controls(m.lr_model, j->controls);  // bad controls fail here, not at wait()
+  validate_controls(m.compiled->lr_model, j->controls);  // bad controls fail here, not at wait()
   {
     std::lock_guard<std::mutex> lock(m.mu);
     require(m.jobs.size() < 2, "step_async: 2 frames are already pending; call wait first");

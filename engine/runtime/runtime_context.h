@@ -3,8 +3,9 @@
 // face's LR simulation (OpenCL) plus super-resolution inference, with
 // controls, external springs and spheres, synchronous stepping, and a
 // two-stage pipeline (frame t+1 simulates while frame t super-resolves).
-// The rig and the model are immutable and shared; a RuntimeContext is used
-// by one thread at a time.
+// The rig and the model, compiled once into a RuntimeModel, are immutable and
+// shared by every context on them; a RuntimeContext holds only its own state
+// and is used by one thread at a time.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -14,6 +15,7 @@
 #include "rig/rig.h"
 #include "sim/controls.h"
 #include "sim/simulator.h"
+#include "runtime/runtime_model.h"
 #include "sr/sr_model.h"
 
 namespace facesr {
@@ -58,11 +60,16 @@ class RuntimeContext {
   // Throws Error when the model was trained on another rig, is not a network
   // ("sr"), or the device cannot be opened.
   RuntimeContext(std::shared_ptr<const Rig> rig, std::shared_ptr<const SrModel> model, const RuntimeOptions& opt = {});
+  // A context on a compiled model: what the constructor above does less
+  // compile_runtime_model, for the second and later contexts of one rig and
+  // model. Throws Error when the device cannot be opened.
+  RuntimeContext(std::shared_ptr<const RuntimeModel> compiled, const RuntimeOptions& opt = {});
   ~RuntimeContext();  // waits for pending frames
   RuntimeContext(const RuntimeContext&) = delete;
   RuntimeContext& operator=(const RuntimeContext&) = delete;
 
   const Rig& rig() const;
+  const std::shared_ptr<const RuntimeModel>& compiled() const;
   int num_weights() const;
   int num_vertices() const;
 

@@ -24,6 +24,9 @@ struct SrInferencePlan {
   std::vector<float> pe;         // N × pe_dim positional encoding
 };
 SrInferencePlan make_inference_plan(const SrModel& model);
+// The plan is the costliest thing an inference builds (the weight SIREN
+// over every upsampling pair): contexts on one model share one (RuntimeModel).
+using SharedInferencePlan = std::shared_ptr<const SrInferencePlan>;
 
 class SrInference {
  public:
@@ -35,8 +38,9 @@ class SrInference {
   virtual std::vector<std::pair<std::string, double>> last_profile() const { return {}; }
 };
 
-// Throws Error for a model of kind other than "sr".
-std::unique_ptr<SrInference> make_cpu_inference(std::shared_ptr<const SrModel> model);
+// Throws Error for a model of kind other than "sr". `plan` is the model's
+// make_inference_plan (made here when null).
+std::unique_ptr<SrInference> make_cpu_inference(std::shared_ptr<const SrModel> model, SharedInferencePlan plan = nullptr);
 
 enum class ClKernels { Auto, Simd, Tiled };
 enum class ClKnn { Auto, Full, Simd, Pruned, Symmetric };
@@ -64,6 +68,6 @@ struct ClInferenceOptions {
   int dense_width = 0;
 };
 std::unique_ptr<SrInference> make_cl_inference(std::shared_ptr<const SrModel> model,
-                                               const ClInferenceOptions& opt = {});
+                                               const ClInferenceOptions& opt = {}, SharedInferencePlan plan = nullptr);
 
 }  // namespace facesr
